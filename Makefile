@@ -1,0 +1,40 @@
+# One command to set up and reproduce, one to set up and test.
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+
+.PHONY: reproduce test test-slow bench lint fit mc audit clean
+
+$(STAMP): pyproject.toml
+	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install --quiet --upgrade pip
+	$(BIN)/pip install --quiet -e '.[test]'
+	touch $(STAMP)
+
+reproduce: fit mc audit
+
+fit: $(STAMP)
+	$(BIN)/bbmc fit --config configs/fit.yaml
+
+mc: $(STAMP)
+	$(BIN)/bbmc mc --config configs/mc.yaml
+
+audit: $(STAMP)
+	$(BIN)/bbmc audit --config configs/audit.yaml
+
+test: $(STAMP)
+	$(BIN)/pytest -q
+
+test-slow: $(STAMP)
+	$(BIN)/pytest -q -m slow
+
+bench: $(STAMP)
+	$(BIN)/bbmc bench --config configs/bench.yaml
+
+lint: $(STAMP)
+	$(BIN)/ruff check src tests
+	$(BIN)/ruff format --check src tests
+
+clean:
+	rm -rf results/fit results/mc results/audit results/bench

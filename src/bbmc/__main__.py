@@ -1,0 +1,3 @@
+from bbmc.cli import main
+
+main()
