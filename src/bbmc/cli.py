@@ -15,6 +15,7 @@ import click
 from bbmc import __version__
 from bbmc.config import ConfigError, load_config
 from bbmc.io import provenance, write_stage
+from bbmc.stages import audit as audit_stage
 from bbmc.stages import fit as fit_stage
 from bbmc.stages import mc as mc_stage
 
@@ -87,3 +88,17 @@ def mc(config: str | None, results: str) -> None:
     envelope.png, phi_c.png, stiffness_laws.png, provenance.json
     """
     _run_stage(mc_stage, config, results)
+
+
+@main.command()
+@_stage_options
+def audit(config: str | None, results: str) -> None:
+    """Recompute and judge every derivable number of the paper (docs/paper-audit.md).
+
+    \b
+    Example:
+      bbmc audit --config configs/audit.yaml
+    writes results/audit/audit.csv (one row per number: paper, ours, difference, verdict,
+    reasoning), summary.csv, provenance.json
+    """
+    _run_stage(audit_stage, config, results)

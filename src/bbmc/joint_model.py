@@ -128,7 +128,9 @@ def fitted_strengths(sigma_n: np.ndarray, p: StiffnessParameters) -> tuple[np.nd
 
 def stiffness_state(sigma_n: np.ndarray, tau: np.ndarray, p: StiffnessParameters) -> dict[str, np.ndarray]:
     """Every stiffness of the paper at (sigma_n, tau) [Pa/m], with the strengths it used [Pa]."""
-    sigma_n, tau = np.broadcast_arrays(np.asarray(sigma_n, float), np.asarray(tau, float))
+    sigma_n, tau = (
+        np.array(a) for a in np.broadcast_arrays(np.asarray(sigma_n, float), np.asarray(tau, float))
+    )
     tau_p, tau_ult = fitted_strengths(sigma_n, p)
     k_si = laws.initial_shear_stiffness(sigma_n, p.k_j, p.n_j, SIGMA_REF)
     if p.form == "paper":
