@@ -432,6 +432,7 @@ def equation_checks(log: AuditLog, ctx: AuditInputs) -> None:
         lg_e,
         "lg e = log10(e) = 0.43429; 0.3434 has two digits swapped. From lg sigma_n = p + q dV (eq 5), "
         "d sigma_n / d dV = q ln(10) sigma_n = q sigma_n / lg e.",
+        corrected=lg_e,
     )
     log.check(
         "Eq 8",

@@ -16,6 +16,7 @@ from bbmc import __version__
 from bbmc.config import ConfigError, load_config
 from bbmc.io import provenance, write_stage
 from bbmc.stages import audit as audit_stage
+from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
 from bbmc.stages import mc as mc_stage
 
@@ -30,6 +31,9 @@ def _run_stage(stage: ModuleType, config: str | None, results: str) -> None:
     except ConfigError as error:
         click.echo(f"bbmc {stage.NAME}: error: {error}", err=True)
         sys.exit(2)
+    except OSError as error:
+        click.echo(f"bbmc {stage.NAME}: error: cannot write results: {error}", err=True)
+        sys.exit(1)
     click.echo(f"bbmc {stage.NAME}: wrote {len(written)} files to {Path(results) / stage.NAME}/")
     for path in written:
         click.echo(f"  {path}")
@@ -102,3 +106,16 @@ def audit(config: str | None, results: str) -> None:
     reasoning), summary.csv, provenance.json
     """
     _run_stage(audit_stage, config, results)
+
+
+@main.command()
+@_stage_options
+def bench(config: str | None, results: str) -> None:
+    """Measure the joint laws' throughput: numpy ufunc vs njit kernel vs plain Python.
+
+    \b
+    Example:
+      bbmc bench --config configs/bench.yaml
+    writes results/bench/laws.csv (evaluations per second and their ratios), provenance.json
+    """
+    _run_stage(bench_stage, config, results)
