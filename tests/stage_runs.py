@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pandas as pd
+import yaml
 from click.testing import CliRunner, Result
 
 from bbmc.cli import main
@@ -22,3 +23,38 @@ def run_stage(stage: str, results: Path, config: Path | None = None) -> Result:
 
 def paper_table(name: str) -> pd.DataFrame:
     return pd.read_csv(PAPER / name)
+
+
+def config_copy(tmp_path: Path, stage: str, edit) -> Path:
+    """A copy of the stage's config in tmp_path with its data paths made absolute, then `edit`ed."""
+    data = yaml.safe_load((CONFIGS / f"{stage}.yaml").read_text())
+    for section in ("data",):
+        for key, value in data.get(section, {}).items():
+            data[section][key] = str((CONFIGS / value).resolve())
+    for key in ("fit_config", "mc_config"):
+        if key in data:
+            data[key] = str((CONFIGS / data[key]).resolve())
+    edit(data)
+    path = tmp_path / f"{stage}.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def set_key(path: str, value):
+    def edit(data):
+        keys = path.split(".")
+        for key in keys[:-1]:
+            data = data[key]
+        data[keys[-1]] = value
+
+    return edit
+
+
+def delete_key(path: str):
+    def edit(data):
+        keys = path.split(".")
+        for key in keys[:-1]:
+            data = data[key]
+        del data[keys[-1]]
+
+    return edit

@@ -6,11 +6,10 @@ import shutil
 from pathlib import Path
 
 import pytest
-import yaml
 from click.testing import CliRunner
-from stage_runs import CONFIGS, PAPER, run_stage
 
 from bbmc.cli import main
+from stage_runs import PAPER, config_copy, delete_key, run_stage, set_key
 
 
 @pytest.mark.parametrize("command", [[], ["fit"], ["mc"], ["audit"]])
@@ -19,41 +18,6 @@ def test_help_shows_an_example(command: list[str]) -> None:
     assert outcome.exit_code == 0
     assert "Example" in outcome.output
     assert "--config" in outcome.output or not command
-
-
-def _config_copy(tmp_path: Path, stage: str, edit) -> Path:
-    """A copy of the stage's config in tmp_path with its data paths made absolute, then `edit`ed."""
-    data = yaml.safe_load((CONFIGS / f"{stage}.yaml").read_text())
-    for section in ("data",):
-        for key, value in data.get(section, {}).items():
-            data[section][key] = str((CONFIGS / value).resolve())
-    for key in ("fit_config", "mc_config"):
-        if key in data:
-            data[key] = str((CONFIGS / data[key]).resolve())
-    edit(data)
-    path = tmp_path / f"{stage}.yaml"
-    path.write_text(yaml.safe_dump(data))
-    return path
-
-
-def _set(path: str, value):
-    def edit(data):
-        keys = path.split(".")
-        for key in keys[:-1]:
-            data = data[key]
-        data[keys[-1]] = value
-
-    return edit
-
-
-def _delete(path: str):
-    def edit(data):
-        keys = path.split(".")
-        for key in keys[:-1]:
-            data = data[key]
-        del data[keys[-1]]
-
-    return edit
 
 
 def _assert_refused(outcome, results: Path, *fragments: str) -> None:
@@ -82,13 +46,13 @@ BAD_VALUES = [
 
 @pytest.mark.parametrize(("stage", "key", "value", "named", "message"), BAD_VALUES)
 def test_bad_value_is_refused(tmp_path, stage, key, value, named, message) -> None:
-    config = _config_copy(tmp_path, stage, _set(key, value))
+    config = config_copy(tmp_path, stage, set_key(key, value))
     results = tmp_path / "results"
     _assert_refused(run_stage(stage, results, config), results, str(config), f"'{named}'", message)
 
 
 def test_missing_key_is_named(tmp_path) -> None:
-    config = _config_copy(tmp_path, "mc", _delete("joint.jcs_MPa"))
+    config = config_copy(tmp_path, "mc", delete_key("joint.jcs_MPa"))
     results = tmp_path / "results"
     _assert_refused(run_stage("mc", results, config), results, "'joint.jcs_MPa'", "missing")
 
@@ -97,7 +61,7 @@ def test_unknown_key_suggests_the_closest(tmp_path) -> None:
     def typo(data):
         data["joint"]["jcs_Mpa"] = data["joint"].pop("jcs_MPa")
 
-    config = _config_copy(tmp_path, "mc", typo)
+    config = config_copy(tmp_path, "mc", typo)
     results = tmp_path / "results"
     _assert_refused(run_stage("mc", results, config), results, "'joint.jcs_Mpa'", "did you mean 'jcs_MPa'")
 
@@ -121,13 +85,13 @@ def test_bad_row_in_an_input_table_names_file_line_and_column(tmp_path) -> None:
     lines = table.read_text().splitlines()
     lines[3] = "-" + lines[3]
     table.write_text("\n".join(lines) + "\n")
-    config = _config_copy(tmp_path, "mc", _set("data.table3", str(table)))
+    config = config_copy(tmp_path, "mc", set_key("data.table3", str(table)))
     results = tmp_path / "results"
     _assert_refused(run_stage("mc", results, config), results, "table3.csv", "line 4", "'sigma_n_MPa'", "> 0")
 
 
 def test_audit_refuses_a_bad_referenced_config(tmp_path) -> None:
-    bad_mc = _config_copy(tmp_path, "mc", _set("joint.jcs_MPa", -1.0))
-    config = _config_copy(tmp_path, "audit", _set("mc_config", str(bad_mc)))
+    bad_mc = config_copy(tmp_path, "mc", set_key("joint.jcs_MPa", -1.0))
+    config = config_copy(tmp_path, "audit", set_key("mc_config", str(bad_mc)))
     results = tmp_path / "results"
     _assert_refused(run_stage("audit", results, config), results, "mc.yaml", "'joint.jcs_MPa'")

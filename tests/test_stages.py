@@ -7,10 +7,9 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
-from stage_runs import run_stage
-from test_cli import _config_copy, _set
 
 from bbmc import io as bbmc_io
+from stage_runs import config_copy, run_stage, set_key
 
 EXPECTED = {
     "fit": {"table1_fits.csv", "fig1_curves.csv", "fig1.png", "fig2.png", "provenance.json"},
@@ -72,7 +71,7 @@ def test_errata_switch_gives_the_corrected_values(tmp_path) -> None:
             data["errata"][key] = "corrected"
 
     paper_run = run_stage("mc", tmp_path / "paper")
-    fixed_run = run_stage("mc", tmp_path / "fixed", _config_copy(tmp_path, "mc", all_corrected))
+    fixed_run = run_stage("mc", tmp_path / "fixed", config_copy(tmp_path, "mc", all_corrected))
     assert paper_run.exit_code == 0 and fixed_run.exit_code == 0
     paper = pd.read_csv(tmp_path / "paper" / "mc" / "table3_mc.csv")
     fixed = pd.read_csv(tmp_path / "fixed" / "mc" / "table3_mc.csv")
@@ -87,7 +86,7 @@ def test_errata_switch_gives_the_corrected_values(tmp_path) -> None:
 
 def test_fitted_coefficients_reproduce_the_printed_K_si(tmp_path) -> None:
     """`stiffness_coefficients: fitted` uses our regressions; K_si matches the printed fit to 4 digits."""
-    config = _config_copy(tmp_path, "mc", _set("stiffness_coefficients", "fitted"))
+    config = config_copy(tmp_path, "mc", set_key("stiffness_coefficients", "fitted"))
     assert run_stage("mc", tmp_path / "fitted", config).exit_code == 0
     assert run_stage("mc", tmp_path / "printed").exit_code == 0
     fitted = pd.read_csv(tmp_path / "fitted" / "mc" / "table3_mc.csv")

@@ -63,7 +63,9 @@ def linear_fit(x: np.ndarray, y: np.ndarray) -> Fit:
     x, y = _checked(x, y, positive=False)
     result = stats.linregress(x, y)
     r2 = _r2(y, result.slope * x + result.intercept)
-    return Fit("line", "ols", result.slope, result.intercept, r2, r2, result.rvalue, x.size)
+    return Fit(
+        "line", "ols", float(result.slope), float(result.intercept), r2, r2, float(result.rvalue), x.size
+    )
 
 
 def power_law_fit(x: np.ndarray, y: np.ndarray, method: str) -> Fit:
@@ -77,4 +79,4 @@ def power_law_fit(x: np.ndarray, y: np.ndarray, method: str) -> Fit:
         raise ValueError(f"unknown power-law method {method!r}: use 'log-log' or 'nonlinear'")
     y_hat = a * x**b
     r2_log = _r2(np.log(y), np.log(y_hat))
-    return Fit("power", method, float(a), float(b), r2_log, _r2(y, y_hat), loglog.rvalue, x.size)
+    return Fit("power", method, float(a), float(b), r2_log, _r2(y, y_hat), float(loglog.rvalue), x.size)

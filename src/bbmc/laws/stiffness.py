@@ -78,10 +78,10 @@ def corrected_shear_stiffness(
 ) -> float:
     """Eq 16: K_st = K_si [1 - f(tau/tau_p) R_f]^2, R_f = tau/tau_ult [Pa/m].
 
-    tau, tau_p, tau_ult [Pa]; k_si [Pa/m]; a, b [1] (the paper: 0.312, 0.7188). tau <= 0 gives K_si
-    (the limit of f R_f -> 0 as tau -> 0).
+    tau, tau_p, tau_ult [Pa]; k_si [Pa/m]; a, b [1] (the paper: 0.312, 0.7188). tau <= 0, or a tau so
+    small that tau/tau_p underflows to 0, gives K_si (the limit of f R_f -> 0 as tau -> 0).
     """
-    if tau <= 0.0:
+    if tau / tau_p <= 0.0:
         return k_si
     return k_si * _reduction(correction_function(tau, tau_p, a, b) * (tau / tau_ult))
 

@@ -28,11 +28,12 @@ def roughness_angle(sigma_n: float, jrc: float, jcs: float) -> float:
     """Roughness angle i = JRC lg(JCS/sigma_n) [rad], the second term of eq 9, clamped at >= 0.
 
     sigma_n, jcs [Pa]; jrc [1]. JRC multiplies a decade count and gives degrees, as in Barton's form.
-    sigma_n <= 0 is not asked here (callers treat the open joint first); it returns +inf.
+    sigma_n <= 0 is not asked here (callers treat the open joint first); it returns +inf. A smooth joint
+    (JRC = 0) has no roughness at any stress, also where JCS/sigma_n overflows to infinity.
     """
     if sigma_n <= 0.0:
         return math.inf
-    if sigma_n >= jcs:
+    if sigma_n >= jcs or jrc == 0.0:
         return 0.0
     return math.radians(jrc * math.log10(jcs / sigma_n))
 

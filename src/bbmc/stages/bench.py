@@ -2,9 +2,9 @@
 
 For each law: evaluations per second as a numpy ufunc over an array, inside an njit kernel loop, and as
 the plain Python source in a Python loop (its calls to other laws still run compiled, so the
-python column flatters plain Python for the composite laws), plus the ratios between them. Wall-clock numbers depend on
-the machine and its load; the ratios, measured in the same run, are what to compare across machines.
-The block-engine benchmarks of later issues add their own tables here.
+python column flatters plain Python for the composite laws), plus the ratios between them. Wall-clock
+numbers depend on the machine and its load; the ratios, measured in the same run, are what to
+compare across machines. The block-engine benchmarks of later issues add their own tables here.
 """
 
 from __future__ import annotations
