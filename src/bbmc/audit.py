@@ -328,6 +328,19 @@ def table3_checks(log: AuditLog, ctx: AuditInputs) -> None:
     phi_c_checks(log, ctx)
 
 
+def _table4_strength(ctx: AuditInputs) -> jm.StrengthParameters:
+    """Table 4's modified eq 15 set (phi_b, JRC, JCS and its 0.016), with the pipeline's cap."""
+    t4 = ctx.table4_nonlinear.iloc[0]
+    return jm.strength_parameters(
+        float(t4["JRC"]),
+        float(t4["JCS_MPa"]),
+        float(t4["phi_b_deg"]),
+        ctx.strength.phi_max / units.deg,
+        "paper",
+        float(t4["eq15_coefficient"]),
+    )
+
+
 def _strength_set(s: jm.StrengthParameters) -> str:
     return f"phi_b = {s.phi_b / units.deg:g} deg, JRC = {s.jrc:g}, JCS = {s.jcs / units.MPa:g} MPa"
 
@@ -341,15 +354,7 @@ def phi_c_checks(log: AuditLog, ctx: AuditInputs) -> None:
     """Table 3's Phi and C against eq 15 (section 3's parameters), with the closest variants."""
     first = ctx.table3.dropna(subset=["Phi_deg"])
     s_MPa = first["sigma_n_MPa"].to_numpy()
-    t4 = ctx.table4_nonlinear.iloc[0]
-    table4_set = jm.strength_parameters(
-        float(t4["JRC"]),
-        float(t4["JCS_MPa"]),
-        float(t4["phi_b_deg"]),
-        ctx.strength.phi_max / units.deg,
-        "paper",
-        float(t4["eq15_coefficient"]),
-    )
+    table4_set = _table4_strength(ctx)
     exact_k = replace(ctx.strength, k=float(laws.exact_tangent_coefficient(ctx.strength.jrc)))
 
     def residuals(x: np.ndarray) -> np.ndarray:
@@ -549,14 +554,7 @@ def table4_checks(log: AuditLog, ctx: AuditInputs) -> None:
     p = ctx.stiffness
     constant = ctx.table4_constant.iloc[0]
     t4 = ctx.table4_nonlinear.iloc[0]
-    table4_set = jm.strength_parameters(
-        float(t4["JRC"]),
-        float(t4["JCS_MPa"]),
-        float(t4["phi_b_deg"]),
-        ctx.strength.phi_max / units.deg,
-        "paper",
-        float(t4["eq15_coefficient"]),
-    )
+    table4_set = _table4_strength(ctx)
     k_n = float(constant["K_n_MPa_per_mm"])
     sigma_for_kn = k_n * units.MPa_per_mm * p.log10_e / p.q
     k_s_there = laws.simplified_shear_stiffness(sigma_for_kn, p.eq18_k_j, p.eq18_n_j, jm.SIGMA_REF, 1.0)
