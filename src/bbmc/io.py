@@ -22,7 +22,6 @@ from bbmc.config import ConfigError
 
 RowCheck = tuple[Callable[[float], bool], str]
 POSITIVE: RowCheck = (lambda v: v > 0, "must be > 0")
-NON_NEGATIVE: RowCheck = (lambda v: v >= 0, "must be >= 0")
 ANY: RowCheck = (lambda v: True, "")
 
 

@@ -7,8 +7,6 @@ rule and the tolerances are in `bbmc.comparison`; the reasoning in docs/paper-au
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 from bbmc import audit as checks
 from bbmc import joint_model as jm
 from bbmc.config import InputFile, Section, load_config
@@ -90,7 +88,7 @@ def _inputs(config: Config) -> checks.AuditInputs:
         printed=jm.printed_constants(mc_inputs["constants"]),
         our_fits=fit.table1_fits(table1, fit_inputs["table3"], fit_config.fig2a_units),
         strength=strength,
-        stiffness=replace(stiffness),
+        stiffness=stiffness,
         k_j_unrounded=unrounded.a,
         n_j_unrounded=unrounded.b,
     )

@@ -9,7 +9,6 @@ model with Table 1's K_si and tau_ult.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Literal
 
 import numpy as np
@@ -162,7 +161,3 @@ def run(config: Config) -> StageResult:
             "fig1": plots.fig1(curves, data["table3"], config.figure_dpi),
         },
     )
-
-
-def default_config() -> Path:
-    return Path("configs") / f"{NAME}.yaml"
