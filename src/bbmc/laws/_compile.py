@@ -13,8 +13,12 @@ import numba
 
 
 def numpy_law(kernel: numba.core.registry.CPUDispatcher) -> numba.np.ufunc.dufunc.DUFunc:
-    """Return a lazily compiled, broadcasting ufunc that runs `kernel`'s source element by element."""
-    source = kernel.py_func
+    """Return a lazily compiled, broadcasting ufunc that runs `kernel`'s source element by element.
+
+    With NUMBA_DISABLE_JIT=1 (for debugging and coverage) `njit` returns the plain function, which is
+    then its own source.
+    """
+    source = getattr(kernel, "py_func", kernel)
     twin = types.FunctionType(
         source.__code__,
         source.__globals__,
