@@ -67,55 +67,48 @@ def main() -> None:
     """
 
 
-@main.command()
-@_stage_options
-def fit(config: str | None, results: str) -> None:
-    """Table 1 / Fig 2 regressions and the Fig 1 curves.
+STAGE_HELP = {
+    fit_stage: """Table 1 / Fig 2 regressions and the Fig 1 curves.
 
     \b
     Example:
       bbmc fit --config configs/fit.yaml
     writes results/fit/table1_fits.csv, fig1_curves.csv, fig1.png, fig2.png, provenance.json
-    """
-    _run_stage(fit_stage, config, results)
-
-
-@main.command()
-@_stage_options
-def mc(config: str | None, results: str) -> None:
-    """Equivalent Mohr-Coulomb phi, c (eqs 9-15) and the stiffness laws (eqs 2-8, 16-18).
+    """,
+    mc_stage: """Equivalent Mohr-Coulomb phi, c (eqs 9-15) and the stiffness laws (eqs 2-8, 16-18).
 
     \b
     Example:
       bbmc mc --config configs/mc.yaml
     writes results/mc/mc_grid.csv, table3_mc.csv, tangent_lines.csv, stiffness_curves.csv,
     envelope.png, phi_c.png, stiffness_laws.png, provenance.json
-    """
-    _run_stage(mc_stage, config, results)
-
-
-@main.command()
-@_stage_options
-def audit(config: str | None, results: str) -> None:
-    """Recompute and judge every derivable number of the paper (docs/paper-audit.md).
+    """,
+    audit_stage: """Recompute and judge every derivable number of the paper (docs/paper-audit.md).
 
     \b
     Example:
       bbmc audit --config configs/audit.yaml
     writes results/audit/audit.csv (one row per number: paper, ours, difference, verdict,
     reasoning), summary.csv, provenance.json
-    """
-    _run_stage(audit_stage, config, results)
-
-
-@main.command()
-@_stage_options
-def bench(config: str | None, results: str) -> None:
-    """Measure the joint laws' throughput: numpy ufunc vs njit kernel vs plain Python.
+    """,
+    bench_stage: """Measure the joint laws' throughput: numpy ufunc vs njit kernel vs plain Python.
 
     \b
     Example:
       bbmc bench --config configs/bench.yaml
     writes results/bench/laws.csv (evaluations per second and their ratios), provenance.json
-    """
-    _run_stage(bench_stage, config, results)
+    """,
+}
+
+
+def _register(stage: ModuleType, help_text: str) -> None:
+    """Add `bbmc <stage.NAME>`: load its config, run it, write its results."""
+
+    @main.command(name=stage.NAME, help=help_text)
+    @_stage_options
+    def command(config: str | None, results: str) -> None:
+        _run_stage(stage, config, results)
+
+
+for _stage, _help in STAGE_HELP.items():
+    _register(_stage, _help)
