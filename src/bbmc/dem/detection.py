@@ -1,0 +1,115 @@
+"""Contact search: a uniform-grid broad phase over block bounding boxes, then edge pairs.
+
+The search runs at the start and again only when some block has moved (translation plus radius times
+rotation) more than half the search margin since the last one (see `kernels.cycle`): until then no
+pair farther apart than the margin can have come into contact. Its cost is linear in the number of
+blocks for blocks of similar size (each block is binned into the grid cells its box covers; a pair is
+reported once, from the cell holding the lower-left corner of the two boxes' intersection). Pairs of
+two immobile blocks (every degree of freedom fixed) are skipped: they can never load each other.
+"""
+
+import math
+
+import numba
+import numpy as np
+from numba.typed import List
+
+from bbmc.dem.kernels import edge_frame
+
+
+@numba.njit(cache=True)
+def _boxes(world, vertex_start, margin):
+    n = vertex_start.size - 1
+    box = np.empty((n, 4))
+    for b in range(n):
+        first, last = vertex_start[b], vertex_start[b + 1]
+        box[b, 0] = world[first:last, 0].min() - 0.5 * margin
+        box[b, 1] = world[first:last, 1].min() - 0.5 * margin
+        box[b, 2] = world[first:last, 0].max() + 0.5 * margin
+        box[b, 3] = world[first:last, 1].max() + 0.5 * margin
+    return box
+
+
+@numba.njit(cache=True)
+def candidate_pairs(world, vertex_start, immobile, margin):
+    """Block pairs (a < b) whose boxes, grown by the margin, overlap: int64 (n_pairs, 2)."""
+    box = _boxes(world, vertex_start, margin)
+    n = box.shape[0]
+    sizes = np.maximum(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+    cell = np.median(sizes)
+    x0, y0 = box[:, 0].min(), box[:, 1].min()
+    width, height = box[:, 2].max() - x0, box[:, 3].max() - y0
+    while (width / cell + 1.0) * (height / cell + 1.0) > 4.0 * n + 16.0:
+        cell *= 1.5
+    nx, ny = int(width / cell) + 1, int(height / cell) + 1
+    span = np.empty((n, 4), dtype=np.int64)
+    count = np.zeros(nx * ny + 1, dtype=np.int64)
+    for b in range(n):
+        span[b, 0] = min(int((box[b, 0] - x0) / cell), nx - 1)
+        span[b, 1] = min(int((box[b, 1] - y0) / cell), ny - 1)
+        span[b, 2] = min(int((box[b, 2] - x0) / cell), nx - 1)
+        span[b, 3] = min(int((box[b, 3] - y0) / cell), ny - 1)
+        for j in range(span[b, 1], span[b, 3] + 1):
+            for i in range(span[b, 0], span[b, 2] + 1):
+                count[j * nx + i + 1] += 1
+    start = np.cumsum(count)
+    members = np.empty(start[-1], dtype=np.int64)
+    fill = start[:-1].copy()
+    for b in range(n):
+        for j in range(span[b, 1], span[b, 3] + 1):
+            for i in range(span[b, 0], span[b, 2] + 1):
+                members[fill[j * nx + i]] = b
+                fill[j * nx + i] += 1
+    pairs = List()
+    for c in range(nx * ny):
+        for p in range(start[c], start[c + 1]):
+            for q in range(p + 1, start[c + 1]):
+                a, b = min(members[p], members[q]), max(members[p], members[q])
+                if immobile[a] and immobile[b]:
+                    continue
+                if box[a, 0] > box[b, 2] or box[b, 0] > box[a, 2]:
+                    continue
+                if box[a, 1] > box[b, 3] or box[b, 1] > box[a, 3]:
+                    continue
+                corner_i = min(int((max(box[a, 0], box[b, 0]) - x0) / cell), nx - 1)
+                corner_j = min(int((max(box[a, 1], box[b, 1]) - y0) / cell), ny - 1)
+                if corner_j * nx + corner_i == c:
+                    pairs.append((a, b))
+    out = np.empty((len(pairs), 2), dtype=np.int64)
+    for k in range(len(pairs)):
+        out[k, 0], out[k, 1] = pairs[k]
+    return out
+
+
+@numba.njit(cache=True)
+def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, margin):
+    """Edge pairs (edge of a, edge of b) of each block pair that face each other: antiparallel within
+    the angle tolerance, overlapping in projection, and at the middle of the overlap no farther apart
+    than the margin and no deeper inside each other than a quarter of the smaller block's size.
+    Returns int64 (n, 4): edge a, edge b, block a, block b."""
+    found = List()
+    for k in range(pairs.shape[0]):
+        a, b = pairs[k, 0], pairs[k, 1]
+        depth = 0.25 * min(size[a], size[b])
+        for ea in range(vertex_start[a], vertex_start[a + 1]):
+            ax, ay, tx, ty, la = edge_frame(world, vertex_next, ea)
+            for eb in range(vertex_start[b], vertex_start[b + 1]):
+                bx, by, ux, uy, lb = edge_frame(world, vertex_next, eb)
+                facing = ty * uy + tx * ux
+                if facing > -cos_tolerance:
+                    continue
+                s0 = (bx - ax) * tx + (by - ay) * ty
+                s1 = s0 + (ux * tx + uy * ty) * lb
+                lo, hi = max(min(s0, s1), 0.0), min(max(s0, s1), la)
+                if hi - lo <= 1e-9 * la:
+                    continue
+                mid = 0.5 * (lo + hi)
+                px, py = ax + mid * tx, ay + mid * ty
+                gap = -((px - bx) * uy - (py - by) * ux) / facing
+                if gap > margin or gap < -depth or not math.isfinite(gap):
+                    continue
+                found.append((ea, eb, a, b))
+    out = np.empty((len(found), 4), dtype=np.int64)
+    for k in range(len(found)):
+        out[k, 0], out[k, 1], out[k, 2], out[k, 3] = found[k]
+    return out

@@ -1,0 +1,80 @@
+"""Column layout of the engine's flat arrays, and the integer codes of the joint laws.
+
+The engine keeps its state in a few 2D float arrays, one row per block or per sub-contact, whose
+columns are named here; numba treats these module constants as compile-time constants, so a kernel
+reads ``blocks[i, VX]`` at the cost of a plain index. Everything is SI: m, rad, s, kg, N, Pa, Pa/m.
+Plane strain: a block's mass and inertia, a contact's length, forces and energies are per metre of
+thickness unless the scene sets another thickness.
+"""
+
+# --- blocks: float64 (n_blocks, BLOCK_COLUMNS) ---------------------------------------------------
+X, Y, TH = 0, 1, 2  # centroid [m], rotation from the initial position [rad]
+VX, VY, W = 3, 4, 5  # velocity [m/s] and angular velocity [rad/s] at the last half step
+MASS, INERTIA = 6, 7  # true mass [kg] and polar moment of inertia about the centroid [kg m^2]
+MX, MY, MW = 8, 9, 10  # inertial mass per degree of freedom (density scaling may raise it)
+FX, FY, FM = 11, 12, 13  # out-of-balance force [N] and moment [N m] of the current step
+X0, Y0 = 14, 15  # initial centroid [m]
+XR, YR, THR = 16, 17, 18  # position at the last contact search [m, rad]
+RADIUS = 19  # largest distance from the centroid to a vertex [m]
+SIZE = 20  # sqrt(area): the block size against which interpenetration is judged [m]
+VPX, VPY, VPW = 21, 22, 23  # prescribed velocity of the prescribed degrees of freedom
+BLOCK_COLUMNS = 24
+
+# --- block degrees of freedom: int64 (n_blocks, 3), one code per x, y, rotation ---------------------
+FREE, PRESCRIBED = 0, 1  # a fixed degree of freedom is one prescribed at zero velocity
+
+# --- contacts: int64 (n_contacts, CONTACT_COLUMNS); each owns N_SUB consecutive sub-contact rows ----
+EDGE_A, EDGE_B = 0, 1  # global edge indices; block A (lower index) carries the reference edge
+BLOCK_A, BLOCK_B = 2, 3
+JOINT_TYPE = 4
+CONTACT_COLUMNS = 5
+
+# --- sub-contacts: float64 (n_contacts * n_sub, SUB_COLUMNS) ---------------------------------------
+SN, TAU = 0, 1  # normal stress (compression > 0) and shear stress on block A [Pa]
+UN, US = 2, 3  # overlap at the last step (> 0 closed) and accumulated shear displacement of B on A [m]
+KN, KS = 4, 5  # current normal and shear stiffness [Pa/m]
+COH, TANPHI, TEN = 6, 7, 8  # cohesion [Pa], tan(friction angle) [1], tensile strength [Pa]
+LENGTH = 9  # contact length carried by this sub-contact [m]
+SLIPPED = 10  # 1 once the sub-contact has slipped (or failed in tension)
+CX, CY = 11, 12  # position [m]
+SUB_COLUMNS = 13
+
+# --- joint types: int64 (n_types, LAW_COLUMNS) and float64 (n_types, PARAMETERS) --------------------
+STRENGTH_LAW, NORMAL_LAW, SHEAR_LAW, AFTER_SLIP = 0, 1, 2, 3
+LAW_COLUMNS = 4
+STRENGTH_CONSTANT, STRENGTH_BARTON_BANDIS = 0, 1  # M-C c, phi given | tangent to the B-B envelope (eq 15)
+NORMAL_CONSTANT, NORMAL_EQ8 = 0, 1  # K_n given | K_n = q sigma_n / lg e (eqs 5-8)
+SHEAR_CONSTANT, SHEAR_BANDIS, SHEAR_CORRECTED, SHEAR_SIMPLIFIED, SHEAR_HYPERBOLIC = 0, 1, 2, 3, 4
+AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = 0, 1  # cohesion and tensile strength after slip: 0 (Itasca) | kept
+
+(
+    P_KN,
+    P_KS,
+    P_COH,
+    P_PHI,
+    P_TEN,
+    P_JRC,
+    P_JCS,
+    P_PHI_B,
+    P_PHI_MAX,
+    P_K_TANGENT,
+    P_Q,
+    P_LG_E,
+    P_K_J,
+    P_N_J,
+    P_SIGMA_REF,
+    P_TAU_P_SLOPE,
+    P_TAU_P_INTERCEPT,
+    P_TAU_ULT_SLOPE,
+    P_TAU_ULT_INTERCEPT,
+    P_A,
+    P_B,
+    P_D,
+    P_STRESS_FLOOR,
+    P_SHEAR_FLOOR,
+) = range(24)
+PARAMETERS = 24
+
+# --- run clock: float64 (CLOCK_COLUMNS,) ------------------------------------------------------------
+STEP, TIME, DT, SINCE_UPDATE = 0, 1, 2, 3
+CLOCK_COLUMNS = 4

@@ -1,0 +1,325 @@
+"""From a validated `Scene` to the engine's arrays in SI, checking every cross-reference on the way.
+
+`build_model` is the boundary where scene units (MPa, mm, kN, deg) become SI and where names become
+indices; anything a scene refers to that does not exist is a `ConfigError` naming the key.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from bbmc import laws, units
+from bbmc.config import ConfigError
+from bbmc.dem import layout as L
+from bbmc.dem import polygons
+from bbmc.dem.scene import BartonBandisLaw, BlockEntry, ConstantLaw, Monitor, Scene
+from bbmc.joint_model import SIGMA_REF
+
+EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
+SHEAR_CODES = {
+    "constant": L.SHEAR_CONSTANT,
+    "bandis": L.SHEAR_BANDIS,
+    "corrected": L.SHEAR_CORRECTED,
+    "simplified": L.SHEAR_SIMPLIFIED,
+    "hyperbolic": L.SHEAR_HYPERBOLIC,
+}
+
+
+@dataclass(frozen=True)
+class MonitorSpec:
+    """A monitor with its names resolved to indices (-1 where not used)."""
+
+    name: str
+    quantity: str
+    block: int
+    point: np.ndarray | None
+    groups: tuple[int, int] | None
+    near: np.ndarray | None
+
+
+@dataclass
+class Model:
+    """Everything the engine needs, in SI; arrays are the initial state (the solver copies them)."""
+
+    scene: Scene
+    block_names: list[str]
+    group_names: list[str]
+    block_group: np.ndarray
+    blocks: np.ndarray
+    dof: np.ndarray
+    vertex_start: np.ndarray
+    vertex_block: np.ndarray
+    vertex_next: np.ndarray
+    local: np.ndarray
+    law_names: list[str]
+    laws: np.ndarray
+    params: np.ndarray
+    rule_groups: np.ndarray
+    rule_dip: np.ndarray
+    rule_law: np.ndarray
+    default_law: int
+    gravity: np.ndarray
+    block_loads: np.ndarray
+    load_block: np.ndarray
+    edge_loads: np.ndarray
+    load_edge: np.ndarray
+    search_margin: float
+    monitors: list[MonitorSpec]
+
+    @property
+    def variable_laws(self) -> bool:
+        return bool(np.any(self.laws[:, :3] != 0))
+
+
+def _error(path: Path, key: str, message: str) -> ConfigError:
+    return ConfigError(f"{path}: key '{key}': {message}")
+
+
+def _shapes(entry: BlockEntry) -> list[np.ndarray]:
+    if entry.polygon_m is not None:
+        shapes = [np.array(entry.polygon_m, dtype=float)]
+    elif entry.rectangle_m is not None:
+        r = entry.rectangle_m
+        shapes = [polygons.rectangle(r.x_m, r.y_m, r.width_m, r.height_m)]
+    else:
+        shapes = polygons.GENERATORS["brick_wall"](**entry.brick_wall.model_dump())
+    shapes = [polygons.counter_clockwise(s) for s in shapes]
+    if entry.rotate_deg:
+        turned = []
+        for s in shapes:
+            about = np.array(entry.rotate_about_m) if entry.rotate_about_m else polygons.mass_properties(s)[1]
+            turned.append(polygons.rotated(s, entry.rotate_deg * units.deg, about))
+        shapes = turned
+    return shapes
+
+
+def _joint_law_row(law: ConstantLaw | BartonBandisLaw) -> tuple[list[int], np.ndarray]:
+    p = np.zeros(L.PARAMETERS)
+    after = L.AFTER_SLIP_ZERO if law.after_slip == "zero" else L.AFTER_SLIP_KEEP
+    p[L.P_TEN] = law.tensile_strength_MPa * units.MPa
+    if isinstance(law, ConstantLaw):
+        p[L.P_KN] = law.kn_MPa_per_mm * units.MPa_per_mm
+        p[L.P_KS] = law.ks_MPa_per_mm * units.MPa_per_mm
+        p[L.P_COH] = law.cohesion_MPa * units.MPa
+        p[L.P_PHI] = law.friction_deg * units.deg
+        return [L.STRENGTH_CONSTANT, L.NORMAL_CONSTANT, L.SHEAR_CONSTANT, after], p
+    s = law.strength
+    p[L.P_JRC], p[L.P_JCS] = s.jrc, s.jcs_MPa * units.MPa
+    p[L.P_PHI_B], p[L.P_PHI_MAX] = s.phi_b_deg * units.deg, s.phi_max_deg * units.deg
+    exact = float(laws.exact_tangent_coefficient(s.jrc))
+    p[L.P_K_TANGENT] = exact if s.tangent_coefficient == "exact" else s.tangent_coefficient
+    p[L.P_STRESS_FLOOR] = law.stress_floor_MPa * units.MPa
+    p[L.P_SHEAR_FLOOR] = law.shear_stiffness_floor
+    p[L.P_SIGMA_REF] = SIGMA_REF
+    normal, shear = law.normal_stiffness, law.shear_stiffness
+    if normal.law == "constant":
+        p[L.P_KN] = normal.kn_MPa_per_mm * units.MPa_per_mm
+    else:
+        p[L.P_Q], p[L.P_LG_E] = normal.q_per_mm * units.per_mm, normal.lg_e
+    if shear.law == "constant":
+        p[L.P_KS] = shear.ks_MPa_per_mm * units.MPa_per_mm
+    else:
+        p[L.P_K_J], p[L.P_N_J] = shear.kj_MPa_per_mm * units.MPa_per_mm, shear.nj
+    if shear.law == "simplified":
+        p[L.P_D] = shear.d
+    elif shear.law != "constant":
+        p[L.P_TAU_P_SLOPE] = shear.peak_strength.slope
+        p[L.P_TAU_P_INTERCEPT] = shear.peak_strength.intercept_MPa * units.MPa
+        p[L.P_TAU_ULT_SLOPE] = shear.ultimate_strength.slope
+        p[L.P_TAU_ULT_INTERCEPT] = shear.ultimate_strength.intercept_MPa * units.MPa
+        p[L.P_A], p[L.P_B] = shear.a, shear.b
+    normal_code = L.NORMAL_CONSTANT if normal.law == "constant" else L.NORMAL_EQ8
+    return [L.STRENGTH_BARTON_BANDIS, normal_code, SHEAR_CODES[shear.law], after], p
+
+
+def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> int:
+    n = len(vertices)
+    if isinstance(edge, int):
+        if edge >= n:
+            raise _error(path, key, f"the block has {n} edges (0 to {n - 1}), got {edge}")
+        return edge
+    direction = np.array(EDGE_DIRECTIONS[edge])
+    tangents = np.roll(vertices, -1, axis=0) - vertices
+    normals = np.column_stack([tangents[:, 1], -tangents[:, 0]])
+    normals /= np.hypot(normals[:, 0], normals[:, 1])[:, None]
+    return int(np.argmax(normals @ direction))
+
+
+def build_model(scene: Scene, path: Path) -> Model:
+    """Check every reference of the scene and assemble the engine's arrays."""
+    names, groups, shapes, entries = [], [], [], []
+    for i, entry in enumerate(scene.blocks):
+        key = f"blocks.{i}"
+        if entry.material not in scene.materials:
+            raise _error(path, f"{key}.material", f"no material '{entry.material}' in materials")
+        if set(entry.fix) & set(_velocity_dofs(entry)):
+            raise _error(path, f"{key}.velocity", "a degree of freedom is both fixed and prescribed")
+        family = entry.brick_wall is not None
+        for k, shape in enumerate(_shapes(entry)):
+            fault = polygons.convexity_fault(shape)
+            if fault:
+                raise _error(path, f"{key}.polygon_m", fault)
+            names.append(f"{entry.name}.{k}" if family else entry.name)
+            groups.append(entry.group or entry.name)
+            shapes.append(shape)
+            entries.append(entry)
+    seen: dict[str, int] = {}
+    for i, name in enumerate(names):
+        if name in seen:
+            raise _error(path, "blocks", f"two blocks are named '{name}'")
+        seen[name] = i
+    group_names = sorted(set(groups))
+    block_group = np.array([group_names.index(g) for g in groups], dtype=np.int64)
+
+    n = len(shapes)
+    blocks = np.zeros((n, L.BLOCK_COLUMNS))
+    dof = np.zeros((n, 3), dtype=np.int64)
+    counts = np.array([len(s) for s in shapes])
+    vertex_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    vertex_block = np.repeat(np.arange(n), counts).astype(np.int64)
+    vertex_next = np.empty(vertex_start[-1], dtype=np.int64)
+    local = np.empty((vertex_start[-1], 2))
+    for i, (shape, entry) in enumerate(zip(shapes, entries, strict=True)):
+        area, centroid, polar = polygons.mass_properties(shape)
+        density = scene.materials[entry.material].density_kg_m3
+        first, last = vertex_start[i], vertex_start[i + 1]
+        local[first:last] = shape - centroid
+        vertex_next[first:last] = np.roll(np.arange(first, last), -1)
+        row = blocks[i]
+        row[[L.X, L.X0, L.XR]] = centroid[0]
+        row[[L.Y, L.Y0, L.YR]] = centroid[1]
+        row[[L.MASS, L.MX, L.MY]] = density * area
+        row[[L.INERTIA, L.MW]] = density * polar
+        row[L.RADIUS] = float(np.max(np.hypot(*(shape - centroid).T)))
+        row[L.SIZE] = math.sqrt(area)
+        for d, axis in enumerate(("x", "y", "rotation")):
+            if axis in entry.fix:
+                dof[i, d] = L.PRESCRIBED
+        velocity = entry.velocity
+        for d, value in enumerate(
+            (velocity.x_m_s, velocity.y_m_s, velocity.rotation_rad_s) if velocity else (None,) * 3
+        ):
+            if value is not None:
+                dof[i, d] = L.PRESCRIBED
+                blocks[i, L.VPX + d] = value
+                blocks[i, L.VX + d] = value
+
+    law_names = list(scene.joint_laws)
+    rows = [_joint_law_row(law) for law in scene.joint_laws.values()]
+    law_codes = np.array([r[0] for r in rows], dtype=np.int64)
+    params = np.array([r[1] for r in rows])
+    contacts = scene.contacts
+    if contacts.default_law not in law_names:
+        raise _error(path, "contacts.default_law", f"no joint law '{contacts.default_law}' in joint_laws")
+    rule_groups = np.full((len(contacts.rules), 2), -1, dtype=np.int64)
+    rule_dip = np.tile([0.0, math.pi / 2], (len(contacts.rules), 1))
+    rule_law = np.zeros(len(contacts.rules), dtype=np.int64)
+    for r, rule in enumerate(contacts.rules):
+        key = f"contacts.rules.{r}"
+        if rule.law not in law_names:
+            raise _error(path, f"{key}.law", f"no joint law '{rule.law}' in joint_laws")
+        rule_law[r] = law_names.index(rule.law)
+        if rule.groups:
+            for k, group in enumerate(rule.groups):
+                if group not in group_names:
+                    raise _error(path, f"{key}.groups", f"no block group '{group}'")
+                rule_groups[r, k] = group_names.index(group)
+        if rule.dip_deg:
+            rule_dip[r] = np.array(rule.dip_deg) * units.deg
+
+    block_loads = np.zeros((len(scene.loads.block_forces), 4))
+    load_block = np.zeros(len(scene.loads.block_forces), dtype=np.int64)
+    for k, load in enumerate(scene.loads.block_forces):
+        load_block[k] = _block_index(seen, load.block, path, f"loads.block_forces.{k}.block")
+        block_loads[k] = [
+            load.force_kN[0] * 1e3 / scene.thickness_m,
+            load.force_kN[1] * 1e3 / scene.thickness_m,
+            load.moment_kN_m * 1e3 / scene.thickness_m,
+            load.ramp_steps,
+        ]
+    edge_loads = np.zeros((len(scene.loads.edge_stresses), 3))
+    load_edge = np.zeros(len(scene.loads.edge_stresses), dtype=np.int64)
+    for k, load in enumerate(scene.loads.edge_stresses):
+        key = f"loads.edge_stresses.{k}"
+        b = _block_index(seen, load.block, path, f"{key}.block")
+        load_edge[k] = vertex_start[b] + _edge_index(shapes[b], load.edge, path, f"{key}.edge")
+        edge_loads[k] = [load.sigma_n_MPa * units.MPa, load.tau_MPa * units.MPa, load.ramp_steps]
+
+    sizes = blocks[:, L.SIZE]
+    margin = contacts.search_margin_m or 0.02 * float(np.median(sizes))
+    monitors = _monitors(scene, seen, group_names, path)
+    return Model(
+        scene=scene,
+        block_names=names,
+        group_names=group_names,
+        block_group=block_group,
+        blocks=blocks,
+        dof=dof,
+        vertex_start=vertex_start,
+        vertex_block=vertex_block,
+        vertex_next=vertex_next,
+        local=local,
+        law_names=law_names,
+        laws=law_codes,
+        params=params,
+        rule_groups=rule_groups,
+        rule_dip=rule_dip,
+        rule_law=rule_law,
+        default_law=law_names.index(contacts.default_law),
+        gravity=np.array(scene.gravity_m_s2, dtype=float),
+        block_loads=block_loads,
+        load_block=load_block,
+        edge_loads=edge_loads,
+        load_edge=load_edge,
+        search_margin=margin,
+        monitors=monitors,
+    )
+
+
+def _velocity_dofs(entry: BlockEntry) -> list[str]:
+    v = entry.velocity
+    if v is None:
+        return []
+    given = zip(("x", "y", "rotation"), (v.x_m_s, v.y_m_s, v.rotation_rad_s), strict=True)
+    return [axis for axis, value in given if value is not None]
+
+
+def _block_index(index: dict[str, int], name: str, path: Path, key: str) -> int:
+    if name not in index:
+        close = [n for n in index if n.startswith(name)][:3]
+        hint = f" (blocks named like it: {', '.join(close)})" if close else ""
+        raise _error(path, key, f"no block named '{name}'{hint}")
+    return index[name]
+
+
+def _monitors(scene: Scene, index: dict[str, int], group_names: list[str], path: Path) -> list[MonitorSpec]:
+    specs, seen = [], set()
+    for k, m in enumerate(scene.monitoring.monitors):
+        key = f"monitoring.monitors.{k}"
+        if m.name in seen:
+            raise _error(path, f"{key}.name", f"two monitors are named '{m.name}'")
+        seen.add(m.name)
+        specs.append(_monitor_spec(m, index, group_names, path, key))
+    return specs
+
+
+def _monitor_spec(m: Monitor, index: dict[str, int], group_names: list[str], path: Path, key: str) -> MonitorSpec:
+    block = _block_index(index, m.block, path, f"{key}.block") if m.block is not None else -1
+    groups = None
+    if m.between is not None:
+        for group in m.between:
+            if group not in group_names:
+                raise _error(path, f"{key}.between", f"no block group '{group}'")
+        groups = (group_names.index(m.between[0]), group_names.index(m.between[1]))
+    return MonitorSpec(
+        name=m.name,
+        quantity=m.quantity,
+        block=block,
+        point=np.array(m.point_m) if m.point_m is not None else None,
+        groups=groups,
+        near=np.array(m.near_m) if m.near_m is not None else None,
+    )

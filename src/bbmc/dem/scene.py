@@ -1,0 +1,280 @@
+"""The scene format: a YAML description of a 2D block system (docs/scene-format.md), validated whole.
+
+Units are in the key names (m, MPa, MPa/mm, kN, deg); `bbmc.dem.model` converts to SI. Every model
+here is a strict, frozen `Section`: unknown keys, wrong types and out-of-range values are refused with
+one line naming the key. Cross-references (a block's material, a rule's law, a monitor's block) are
+checked when the model is built, before any step runs.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from bbmc.config import Section
+
+Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
+Names = Annotated[list[str], Field(min_length=2, max_length=2)]
+Positive = Annotated[float, Field(gt=0)]
+NonNegative = Annotated[float, Field(ge=0)]
+Steps = Annotated[int, Field(ge=0)]
+Dof = Literal["x", "y", "rotation"]
+AfterSlip = Literal["zero", "keep"]
+
+
+def _exactly_one(model: Section, keys: tuple[str, ...], what: str) -> None:
+    given = [key for key in keys if getattr(model, key) is not None]
+    if len(given) != 1:
+        raise ValueError(f"give exactly one {what} of {', '.join(keys)}; got {', '.join(given) or 'none'}")
+
+
+class Material(Section):
+    density_kg_m3: Positive
+
+
+class Rectangle(Section):
+    x_m: float  # lower-left corner
+    y_m: float
+    width_m: Positive
+    height_m: Positive
+
+
+class BrickWall(Section):
+    origin_m: Pair
+    columns: Annotated[int, Field(ge=1)]
+    rows: Annotated[int, Field(ge=1)]
+    block_width_m: Positive
+    block_height_m: Positive
+    row_offset: Annotated[float, Field(ge=0, lt=1)] = 0.0
+
+
+class Velocity(Section):
+    """A prescribed velocity for the degrees of freedom given (the others stay free)."""
+
+    x_m_s: float | None = None
+    y_m_s: float | None = None
+    rotation_rad_s: float | None = None
+
+
+class BlockEntry(Section):
+    """One block (polygon_m or rectangle_m) or a family of blocks from a generator (brick_wall)."""
+
+    name: Annotated[str, Field(min_length=1, pattern=r"^[^.\s]+$")]
+    material: str
+    group: str | None = None  # contact rules and joint monitors select blocks by group [name]
+    polygon_m: Annotated[list[Pair], Field(min_length=3)] | None = None
+    rectangle_m: Rectangle | None = None
+    brick_wall: BrickWall | None = None
+    rotate_deg: float = 0.0  # counter-clockwise, about rotate_about_m [default: the centroid]
+    rotate_about_m: Pair | None = None
+    fix: list[Dof] = []
+    velocity: Velocity | None = None
+
+    @model_validator(mode="after")
+    def _one_shape(self) -> BlockEntry:
+        _exactly_one(self, ("polygon_m", "rectangle_m", "brick_wall"), "shape")
+        return self
+
+
+class ConstantLaw(Section):
+    """Constant Mohr-Coulomb joint: stiffness, cohesion, friction, tension cut-off."""
+
+    law: Literal["constant"]
+    kn_MPa_per_mm: Positive
+    ks_MPa_per_mm: Positive
+    cohesion_MPa: NonNegative = 0.0
+    friction_deg: Annotated[float, Field(ge=0, lt=90)]
+    tensile_strength_MPa: NonNegative = 0.0
+    after_slip: AfterSlip = "zero"
+
+
+class BartonBandisStrength(Section):
+    """Eq 9 envelope; its tangent at the sub-contact's sigma_n gives phi and c (eqs 13-15)."""
+
+    jrc: Annotated[float, Field(ge=0, le=20)]
+    jcs_MPa: Positive
+    phi_b_deg: Annotated[float, Field(gt=0, lt=90)]
+    phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
+    tangent_coefficient: Positive | Literal["exact"] = "exact"  # eq 15 prints 0.016
+
+
+class LinearStrength(Section):
+    """tau = slope x + intercept: Table 1's fits of tau_p on sigma_n and tau_ult on tau_p (eq 4)."""
+
+    slope: Positive
+    intercept_MPa: float
+
+
+class ConstantNormal(Section):
+    law: Literal["constant"]
+    kn_MPa_per_mm: Positive
+
+
+class Eq8Normal(Section):
+    law: Literal["eq8"]
+    q_per_mm: Positive
+    lg_e: Positive = 0.4342944819032518  # eq 6 prints 0.3434
+
+
+class ConstantShear(Section):
+    law: Literal["constant"]
+    ks_MPa_per_mm: Positive
+
+
+class HyperbolicShear(Section):
+    """bandis: eq 3/4 as printed; hyperbolic: eq 2 (R_f = tau_p/tau_ult); corrected: eq 16."""
+
+    law: Literal["bandis", "hyperbolic", "corrected"]
+    kj_MPa_per_mm: Positive  # K_j: K_si at sigma_n = 1 MPa
+    nj: float
+    peak_strength: LinearStrength
+    ultimate_strength: LinearStrength
+    a: float = 0.0  # eq 16's correction f = a ln(tau/tau_p) + b (corrected only)
+    b: float = 1.0
+
+
+class SimplifiedShear(Section):
+    """Eq 17: K_s = D K_j sigma_n^n_j (eq 18: D K_j = 0.1164 MPa/mm as printed)."""
+
+    law: Literal["simplified"]
+    kj_MPa_per_mm: Positive
+    nj: float
+    d: Positive = 1.0
+
+
+class BartonBandisLaw(Section):
+    """Strength and stiffness recomputed from each sub-contact's own stresses every update interval."""
+
+    law: Literal["barton_bandis"]
+    strength: BartonBandisStrength
+    normal_stiffness: ConstantNormal | Eq8Normal = Field(discriminator="law")
+    shear_stiffness: ConstantShear | HyperbolicShear | SimplifiedShear = Field(discriminator="law")
+    stress_floor_MPa: Positive = 0.01  # stiffness laws are evaluated at max(sigma_n, floor)
+    shear_stiffness_floor: Annotated[float, Field(ge=0, le=1)] = 0.01  # K_s >= floor K_si
+    tensile_strength_MPa: NonNegative = 0.0
+    after_slip: AfterSlip = "zero"
+
+
+JointLaw = Annotated[ConstantLaw | BartonBandisLaw, Field(discriminator="law")]
+
+
+class ContactRule(Section):
+    """Contacts between the two groups (either order) and/or with a dip in the range get `law`."""
+
+    law: str
+    groups: Names | None = None
+    dip_deg: Pair | None = None
+
+
+class Contacts(Section):
+    default_law: str
+    rules: list[ContactRule] = []
+    sub_contacts_per_edge: Annotated[int, Field(ge=1, le=64)] = 4
+    angle_tolerance_deg: Annotated[float, Field(gt=0, le=45)] = 5.0
+    search_margin_m: Positive | None = None  # default: 2 % of the median block size
+    interpenetration_limit: Annotated[float, Field(gt=0, lt=1)] = 0.05  # of the smaller block's size
+
+
+class EdgeStress(Section):
+    """Stress on one edge: sigma_n pushes on it (compression > 0), tau drags along it counter-clockwise."""
+
+    block: str
+    edge: Literal["up", "down", "left", "right"] | Annotated[int, Field(ge=0)]
+    sigma_n_MPa: float = 0.0
+    tau_MPa: float = 0.0
+    ramp_steps: Steps = 0
+
+
+class BlockForce(Section):
+    block: str
+    force_kN: Pair = [0.0, 0.0]  # per thickness, at the centroid
+    moment_kN_m: float = 0.0
+    ramp_steps: Steps = 0
+
+
+class Loads(Section):
+    edge_stresses: list[EdgeStress] = []
+    block_forces: list[BlockForce] = []
+
+
+class TimeStep(Section):
+    """auto: safety x critical step (step_s, if given, is an upper limit); fixed: step_s, refused if
+    above critical; density_scaling: step_s, inertial masses raised so it is safety x critical."""
+
+    mode: Literal["auto", "fixed", "density_scaling"] = "auto"
+    safety_factor: Annotated[float, Field(gt=0, le=1)] = 0.5
+    step_s: Positive | None = None
+
+    @model_validator(mode="after")
+    def _step_given(self) -> TimeStep:
+        if self.mode != "auto" and self.step_s is None:
+            raise ValueError(f"time step mode '{self.mode}' needs step_s")
+        return self
+
+
+class Stop(Section):
+    unbalanced_force_ratio: Positive  # stop once max unbalanced force / max applied force is below
+
+
+class Solver(Section):
+    steps: Annotated[int, Field(ge=1)]
+    damping: Annotated[float, Field(ge=0, lt=1)] = 0.8  # Cundall local damping; 0 for true dynamics
+    time_step: TimeStep = TimeStep()
+    update_interval_steps: Annotated[int, Field(ge=1)] = 50  # stress-dependent laws (the paper: 50)
+    stop: Stop | None = None
+
+
+BLOCK_QUANTITIES = ("ux", "uy", "vx", "vy", "rotation")
+JOINT_QUANTITIES = ("sigma_n", "tau", "kn", "ks", "cohesion", "friction", "us", "un")
+GLOBAL_QUANTITIES = ("kinetic_energy", "strain_energy", "potential_energy", "unbalanced_force_ratio")
+Quantity = Literal[
+    "ux", "uy", "vx", "vy", "rotation",
+    "sigma_n", "tau", "kn", "ks", "cohesion", "friction", "us", "un",
+    "kinetic_energy", "strain_energy", "potential_energy", "unbalanced_force_ratio",
+]  # fmt: skip
+
+
+class Monitor(Section):
+    """A block (block, optional point_m), a joint (between two groups, or the sub-contact near_m) or
+    the whole system."""
+
+    name: Annotated[str, Field(min_length=1)]
+    quantity: Quantity
+    block: str | None = None
+    point_m: Pair | None = None
+    between: Names | None = None
+    near_m: Pair | None = None
+
+    @model_validator(mode="after")
+    def _target(self) -> Monitor:
+        if self.quantity in BLOCK_QUANTITIES:
+            if self.block is None or self.between is not None or self.near_m is not None:
+                raise ValueError(f"'{self.quantity}' is a block quantity: give block (and point_m)")
+        elif self.quantity in JOINT_QUANTITIES:
+            _exactly_one(self, ("between", "near_m"), f"joint for '{self.quantity}'")
+            if self.block is not None or self.point_m is not None:
+                raise ValueError(f"'{self.quantity}' is a joint quantity: give between or near_m")
+        elif any(v is not None for v in (self.block, self.point_m, self.between, self.near_m)):
+            raise ValueError(f"'{self.quantity}' is a system quantity: it takes no block or joint")
+        return self
+
+
+class Monitoring(Section):
+    every_steps: Annotated[int, Field(ge=1)] = 100
+    monitors: list[Monitor] = []
+
+
+class Scene(Section):
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_\-]+$")] | None = None  # [the file name]
+    description: str = ""
+    thickness_m: Positive = 1.0
+    gravity_m_s2: Pair = [0.0, -9.81]
+    materials: Annotated[dict[str, Material], Field(min_length=1)]
+    blocks: Annotated[list[BlockEntry], Field(min_length=1)]
+    joint_laws: Annotated[dict[str, JointLaw], Field(min_length=1)]
+    contacts: Contacts
+    loads: Loads = Loads()
+    solver: Solver
+    monitoring: Monitoring = Monitoring()
+    figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120

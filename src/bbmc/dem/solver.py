@@ -1,0 +1,301 @@
+"""The run loop around the kernels: contact search, time step, monitoring, fault detection.
+
+The kernels run whole chunks of cycles; this module only acts between chunks: at record steps
+(monitors, stop condition, interpenetration), after a block has moved far enough to need a new
+contact search, and when a run goes wrong. Faults stop the run with a `SimulationError` whose message
+is one line naming the step and the likely cause; nothing is written then.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from bbmc import units
+from bbmc.config import load_config
+from bbmc.dem import kernels
+from bbmc.dem import layout as L
+from bbmc.dem import monitors as mon
+from bbmc.dem.detection import candidate_pairs, facing_edges
+from bbmc.dem.model import Model, build_model
+from bbmc.dem.scene import Scene
+
+TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
+RUNAWAY_FRACTION = 0.1  # a block moving this fraction of its size in one step has gone unstable
+
+
+class SimulationError(Exception):
+    """A run that cannot go on. `bad_input`: the scene itself is at fault (exit status 2)."""
+
+    def __init__(self, message: str, bad_input: bool = False) -> None:
+        super().__init__(message)
+        self.bad_input = bad_input
+
+
+@dataclass
+class State:
+    """The engine's mutable arrays (see `layout` for their columns)."""
+
+    clock: np.ndarray
+    blocks: np.ndarray
+    dof: np.ndarray
+    world: np.ndarray
+    contacts: np.ndarray
+    subs: np.ndarray
+    n_sub: int
+    searches: int = 0
+    dt_range: list[float] = field(default_factory=lambda: [math.inf, 0.0])
+    largest_overlap: float = 0.0
+
+    @property
+    def step(self) -> int:
+        return int(self.clock[L.STEP])
+
+
+@dataclass
+class RunResult:
+    history: pd.DataFrame
+    blocks: pd.DataFrame
+    contacts: pd.DataFrame
+    summary: pd.DataFrame
+    warnings: list[str]
+    state: State
+
+
+def initial_state(model: Model) -> State:
+    n_sub = model.scene.contacts.sub_contacts_per_edge
+    world = np.empty_like(model.local)
+    blocks = model.blocks.copy()
+    kernels.update_vertices(blocks, model.vertex_block, model.local, world)
+    return State(
+        clock=np.zeros(L.CLOCK_COLUMNS),
+        blocks=blocks,
+        dof=model.dof.copy(),
+        world=world,
+        contacts=np.zeros((0, L.CONTACT_COLUMNS), dtype=np.int64),
+        subs=np.zeros((0, L.SUB_COLUMNS)),
+        n_sub=n_sub,
+    )
+
+
+def _joint_types(model: Model, world: np.ndarray, found: np.ndarray) -> np.ndarray:
+    """The joint law of each new contact: the first matching rule, else the default."""
+    start, end = world[found[:, 0]], world[model.vertex_next[found[:, 0]]]
+    dip = np.arctan2(np.abs(end[:, 1] - start[:, 1]), np.abs(end[:, 0] - start[:, 0]))
+    ga, gb = model.block_group[found[:, 2]], model.block_group[found[:, 3]]
+    types = np.full(len(found), model.default_law, dtype=np.int64)
+    open_ = np.ones(len(found), dtype=bool)
+    for (g1, g2), (lo, hi), law in zip(model.rule_groups, model.rule_dip, model.rule_law, strict=True):
+        match = open_ & (dip >= lo - 1e-12) & (dip <= hi + 1e-12)
+        if g1 >= 0:
+            match &= ((ga == g1) & (gb == g2)) | ((ga == g2) & (gb == g1))
+        types[match] = law
+        open_ &= ~match
+    return types
+
+
+def search_contacts(model: Model, state: State) -> None:
+    """Find the facing edge pairs now within the margin; contacts found before keep their state."""
+    b = state.blocks
+    immobile = np.all((state.dof == L.PRESCRIBED) & (b[:, [L.VPX, L.VPY, L.VPW]] == 0.0), axis=1)
+    cos_tolerance = math.cos(model.scene.contacts.angle_tolerance_deg * units.deg)
+    pairs = candidate_pairs(state.world, model.vertex_start, immobile, model.search_margin)
+    found = facing_edges(
+        pairs, state.world, model.vertex_start, model.vertex_next, b[:, L.SIZE], cos_tolerance,
+        model.search_margin,
+    )
+    n_vertices, n_sub = len(model.local), state.n_sub
+    old_keys = state.contacts[:, L.EDGE_A] * n_vertices + state.contacts[:, L.EDGE_B]
+    new_keys = found[:, 0] * n_vertices + found[:, 1]
+    order = np.argsort(old_keys, kind="stable")
+    slot = np.searchsorted(old_keys[order], new_keys)
+    known = slot < len(order)
+    known[known] = old_keys[order][slot[known]] == new_keys[known]
+    kept = order[slot[known]]
+    fresh = found[~known]
+    contacts = np.concatenate(
+        [
+            state.contacts[kept],
+            np.column_stack([fresh, _joint_types(model, state.world, fresh)]).astype(np.int64),
+        ]
+    ).reshape(-1, L.CONTACT_COLUMNS)
+    kept_rows = (kept[:, None] * n_sub + np.arange(n_sub)).ravel()
+    subs = np.concatenate([state.subs[kept_rows], np.zeros((len(fresh) * n_sub, L.SUB_COLUMNS))])
+    first_new = len(kept)
+    kernels.initial_joint_state(contacts, subs, n_sub, model.laws, model.params, first_new, state.step == 0)
+    new_contacts, new_subs = contacts[first_new:], subs[first_new * n_sub :]
+    if model.variable_laws:
+        kernels.update_joint_laws(new_contacts, new_subs, n_sub, model.laws, model.params)
+    kernels.contact_forces(
+        b, state.world, model.vertex_next, new_contacts, new_subs, n_sub, model.laws, cos_tolerance, 0.0
+    )
+    state.contacts, state.subs = contacts, subs
+    b[:, [L.XR, L.YR, L.THR]] = b[:, [L.X, L.Y, L.TH]]
+    state.searches += 1
+
+
+def _set_time_step(model: Model, state: State) -> None:
+    ts = model.scene.solver.time_step
+    status = kernels.set_time_step(
+        state.clock, state.blocks, state.dof, state.world, model.vertex_next, state.contacts, state.subs,
+        state.n_sub, TIME_STEP_MODES[ts.mode], ts.safety_factor, ts.step_s or math.inf,
+    )
+    if status == kernels.STEP_ABOVE_CRITICAL:
+        _above_critical(model, state)
+    if not math.isfinite(state.clock[L.DT]):
+        raise SimulationError(
+            "key 'solver.time_step.step_s': nothing is in contact, so the automatic time step has no "
+            "bound; give step_s as its upper limit",
+            bad_input=True,
+        )
+    state.dt_range[0] = min(state.dt_range[0], state.clock[L.DT])
+    state.dt_range[1] = max(state.dt_range[1], state.clock[L.DT])
+
+
+def _critical(model: Model, state: State) -> float:
+    return kernels.critical_time_step(
+        state.blocks, state.dof, state.world, model.vertex_next, state.contacts, state.subs, state.n_sub
+    )
+
+
+def _above_critical(model: Model, state: State) -> None:
+    step_s, critical = model.scene.solver.time_step.step_s, _critical(model, state)
+    if state.step == 0:
+        raise SimulationError(
+            f"key 'solver.time_step.step_s': the fixed time step {step_s:.3g} s is above this scene's "
+            f"critical step {critical:.3g} s; lower it or use mode auto",
+            bad_input=True,
+        )
+    raise SimulationError(
+        f"step {state.step}: the fixed time step {step_s:.3g} s is now above the critical step "
+        f"{critical:.3g} s (the joint stiffness grew); lower step_s or use time_step mode auto"
+    )
+
+
+def _check_health(model: Model, state: State) -> None:
+    """Stop a run that has gone unstable: non-finite state, or a block running away in one step."""
+    b, dt = state.blocks, state.clock[L.DT]
+    finite = np.all(np.isfinite(b[:, [L.X, L.Y, L.TH, L.VX, L.VY, L.W]]), axis=1)
+    travel = (np.hypot(b[:, L.VX], b[:, L.VY]) + np.abs(b[:, L.W]) * b[:, L.RADIUS]) * dt / b[:, L.SIZE]
+    bad = ~finite | (travel > RUNAWAY_FRACTION)
+    if not bad.any():
+        return
+    i = int(np.argmax(bad))
+    what = "a non-finite position or velocity" if not finite[i] else (
+        f"moved {travel[i]:.2g} of its size in one step"
+    )
+    critical = _critical(model, state) if np.all(finite) else math.nan
+    raise SimulationError(
+        f"step {state.step}: block '{model.block_names[i]}' has {what}: the run went unstable; likely "
+        f"cause: time step {dt:.3g} s above the critical step ({critical:.3g} s now), e.g. a fixed step "
+        f"or a joint stiffness that grew faster than the update interval ({model.scene.solver.update_interval_steps} steps)"
+    )
+
+
+def _check_overlap(model: Model, state: State, warnings: list[str]) -> None:
+    """Record the deepest interpenetration as a fraction of the smaller block's size; warn once."""
+    subs, n_sub = state.subs, state.n_sub
+    if not len(subs):
+        return
+    size = np.minimum(
+        state.blocks[state.contacts[:, L.BLOCK_A], L.SIZE], state.blocks[state.contacts[:, L.BLOCK_B], L.SIZE]
+    )
+    depth = np.where(subs[:, L.LENGTH] > 0, subs[:, L.UN], 0.0) / np.repeat(size, n_sub)
+    k = int(np.argmax(depth))
+    state.largest_overlap = max(state.largest_overlap, float(depth[k]))
+    limit = model.scene.contacts.interpenetration_limit
+    if depth[k] > limit and not any("interpenetrate" in w for w in warnings):
+        c = state.contacts[k // n_sub]
+        warnings.append(
+            f"step {state.step}: blocks '{model.block_names[c[L.BLOCK_A]]}' and "
+            f"'{model.block_names[c[L.BLOCK_B]]}' interpenetrate by {100 * depth[k]:.3g} % of the smaller "
+            f"block's size (limit {100 * limit:.3g} %): the joint stiffness is too low for the load"
+        )
+
+
+def simulate(model: Model, progress: Callable[[int], None] | None = None) -> RunResult:
+    """Run the scene: `solver.steps` cycles, or fewer if the stop condition is met.
+
+    `progress(n)` is called with the number of cycles done since its last call.
+    """
+    scene, state, warnings = model.scene, initial_state(model), []
+    solver = scene.solver
+    search_contacts(model, state)
+    if model.variable_laws:
+        kernels.update_joint_laws(state.contacts, state.subs, state.n_sub, model.laws, model.params)
+    _set_time_step(model, state)
+    reference = mon.reference_force(model)
+    every = scene.monitoring.every_steps
+    records = [_record(model, state, reference)]
+    cos_tolerance = math.cos(scene.contacts.angle_tolerance_deg * units.deg)
+    ts = solver.time_step
+    mode = TIME_STEP_MODES[ts.mode]
+    stopped_early = False
+    while state.step < solver.steps:
+        chunk = min(every - state.step % every, solver.steps - state.step)
+        before = state.step
+        _, status = kernels.cycle(
+            chunk, state.clock, state.blocks, state.dof, model.vertex_block, model.vertex_next, model.local,
+            state.world, state.contacts, state.subs, state.n_sub, model.laws, model.params,
+            model.variable_laws, solver.update_interval_steps, model.gravity, model.block_loads,
+            model.load_block, model.edge_loads, model.load_edge, solver.damping, cos_tolerance,
+            model.search_margin, mode, ts.safety_factor, ts.step_s or math.inf,
+        )
+        _check_health(model, state)
+        if status == kernels.STEP_ABOVE_CRITICAL:
+            _above_critical(model, state)
+        if status == kernels.SEARCH_NEEDED:
+            search_contacts(model, state)
+            _set_time_step(model, state)
+        state.dt_range[0] = min(state.dt_range[0], state.clock[L.DT])
+        state.dt_range[1] = max(state.dt_range[1], state.clock[L.DT])
+        if progress:
+            progress(state.step - before)
+        if state.step % every == 0 or state.step == solver.steps:
+            _check_overlap(model, state, warnings)
+            records.append(_record(model, state, reference))
+            if solver.stop and mon.unbalanced_force_ratio(state, reference) < solver.stop.unbalanced_force_ratio:
+                stopped_early = True
+                break
+    return RunResult(
+        history=pd.DataFrame(records),
+        blocks=mon.block_table(model, state.blocks),
+        contacts=mon.contact_table(model, state.contacts, state.subs, state.n_sub),
+        summary=_summary(model, state, stopped_early, warnings),
+        warnings=warnings,
+        state=state,
+    )
+
+
+def _record(model: Model, state: State, reference: float) -> dict[str, float]:
+    row = {"step": state.step, "time_s": state.clock[L.TIME]}
+    for spec in model.monitors:
+        row[mon.column_name(spec)] = mon.monitor_value(spec, model, state, reference)
+    return row
+
+
+def _summary(model: Model, state: State, stopped_early: bool, warnings: list[str]) -> pd.DataFrame:
+    rows = [
+        ("steps", state.step, "1"),
+        ("time", state.clock[L.TIME], "s"),
+        ("stopped_by_condition", int(stopped_early), "1"),
+        ("time_step_min", state.dt_range[0], "s"),
+        ("time_step_max", state.dt_range[1], "s"),
+        ("contact_searches", state.searches, "1"),
+        ("contacts", len(state.contacts), "1"),
+        ("active_sub_contacts", int(np.sum(state.subs[:, L.LENGTH] > 0)), "1"),
+        ("largest_interpenetration", state.largest_overlap, "fraction of block size"),
+        ("interpenetration_limit", model.scene.contacts.interpenetration_limit, "fraction of block size"),
+        ("warnings", len(warnings), "1"),
+    ]
+    return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
+
+
+def load_scene(path: Path) -> Model:
+    """Read, validate and assemble a scene file (ConfigError on any fault)."""
+    return build_model(load_config(path, Scene), path)
