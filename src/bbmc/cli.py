@@ -7,6 +7,9 @@ nothing written.
 from __future__ import annotations
 
 import sys
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
 
@@ -14,29 +17,68 @@ import click
 
 from bbmc import __version__
 from bbmc.config import ConfigError, load_config
+from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
 from bbmc.stages import mc as mc_stage
+from bbmc.stages import run as run_stage
+
+
+@contextmanager
+def _reported(name: str) -> Iterator[None]:
+    """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
+    config, an input file, an unusable time step), 3 for a run that went unstable, 1 for a failed
+    write."""
+    try:
+        yield
+    except ConfigError as error:
+        click.echo(f"bbmc {name}: error: {error}", err=True)
+        sys.exit(2)
+    except SimulationError as error:
+        click.echo(f"bbmc {name}: error: {error}", err=True)
+        sys.exit(2 if error.bad_input else 3)
+    except OSError as error:
+        click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
+        sys.exit(1)
+
+
+def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
+    click.echo(f"bbmc {name}: wrote {len(written)} files to {out_dir}/")
+    for path in written:
+        click.echo(f"  {path}")
 
 
 def _run_stage(stage: ModuleType, config: str | None, results: str) -> None:
     config_path = Path(config) if config else Path("configs") / f"{stage.NAME}.yaml"
-    try:
+    with _reported(stage.NAME):
         settings = load_config(config_path, stage.Config)
         result = stage.run(settings)
         record = provenance(stage.NAME, config_path, settings)
         written = write_stage(Path(results) / stage.NAME, result, record)
-    except ConfigError as error:
-        click.echo(f"bbmc {stage.NAME}: error: {error}", err=True)
-        sys.exit(2)
-    except OSError as error:
-        click.echo(f"bbmc {stage.NAME}: error: cannot write results: {error}", err=True)
-        sys.exit(1)
-    click.echo(f"bbmc {stage.NAME}: wrote {len(written)} files to {Path(results) / stage.NAME}/")
-    for path in written:
-        click.echo(f"  {path}")
+    _report_written(stage.NAME, Path(results) / stage.NAME, written)
+
+
+class _Progress:
+    """A progress bar on stderr for runs that last: it appears once a run has taken `after` seconds."""
+
+    def __init__(self, total: int, label: str, after: float = 2.0) -> None:
+        self.total, self.label, self.after = total, label, after
+        self.start, self.done, self.bar = time.perf_counter(), 0, None
+
+    def __call__(self, steps: int) -> None:
+        self.done += steps
+        if self.bar is None and time.perf_counter() - self.start > self.after:
+            self.bar = click.progressbar(length=self.total, label=self.label, file=sys.stderr)
+            self.bar.__enter__()
+            self.bar.update(self.done)
+        elif self.bar is not None:
+            self.bar.update(steps)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.__exit__(None, None, None)
 
 
 def _stage_options(function):
@@ -64,6 +106,7 @@ def main() -> None:
     Example (the whole pipeline is `make reproduce`):
       bbmc fit --config configs/fit.yaml
       bbmc mc  --config configs/mc.yaml
+      bbmc run --config configs/scenes/incline.yaml
     """
 
 
@@ -112,3 +155,33 @@ def _register(stage: ModuleType, help_text: str) -> None:
 
 for _stage, _help in STAGE_HELP.items():
     _register(_stage, _help)
+
+
+@main.command(name="run")
+@_stage_options
+def run_command(config: str | None, results: str) -> None:
+    """Run a block scene (docs/scene-format.md) on the DEM engine.
+
+    \b
+    Example:
+      bbmc run --config configs/scenes/incline.yaml
+    writes results/run/<scene name>/history.csv (the monitors), blocks.csv, contacts.csv,
+    summary.csv, warnings.csv, scene.png, history.png, provenance.json.
+    A run that goes unstable stops with one line naming the step and the likely cause (exit 3)
+    and writes nothing.
+    """
+    if config is None:
+        raise click.UsageError("give the scene with --config SCENE.yaml")
+    config_path = Path(config)
+    with _reported(run_stage.NAME):
+        scene = load_config(config_path, run_stage.Config)
+        progress = _Progress(scene.solver.steps, f"bbmc run {config_path.name}")
+        try:
+            result, outcome = run_stage.run(scene, config_path, progress)
+        finally:
+            progress.close()
+        for warning in outcome.warnings:
+            click.echo(f"bbmc run: warning: {warning}", err=True)
+        out_dir = Path(results) / run_stage.NAME / run_stage.output_name(scene, config_path)
+        written = write_stage(out_dir, result, provenance(run_stage.NAME, config_path, scene))
+    _report_written(run_stage.NAME, out_dir, written)

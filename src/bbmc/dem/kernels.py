@@ -84,7 +84,6 @@ from bbmc.dem.layout import (
     SHEAR_BANDIS,
     SHEAR_CONSTANT,
     SHEAR_CORRECTED,
-    SHEAR_HYPERBOLIC,
     SHEAR_LAW,
     SHEAR_SIMPLIFIED,
     SINCE_UPDATE,
@@ -106,11 +105,11 @@ from bbmc.dem.layout import (
     VPY,
     VX,
     VY,
+    XR,
+    YR,
     W,
     X,
-    XR,
     Y,
-    YR,
 )
 from bbmc.laws.stiffness import (
     bandis_shear_stiffness,
@@ -247,8 +246,9 @@ def _ramp(step, ramp_steps):
 
 
 @numba.njit(cache=True)
-def apply_loads(blocks, world, vertex_next, vertex_block, gravity, block_loads, load_block, edge_loads,
-                load_edge, step):
+def apply_loads(
+    blocks, world, vertex_next, vertex_block, gravity, block_loads, load_block, edge_loads, load_edge, step
+):
     """Gravity (true mass), block forces [N, N m] and edge stresses [Pa] for this step.
 
     An edge stress (sigma, tau, ramp) pushes on the edge with sigma (compression > 0) and drags along
@@ -489,14 +489,33 @@ def cycle(
             update_joint_laws(contacts, subs, n_sub, laws, params)
             clock[SINCE_UPDATE] = 0.0
             status = set_time_step(
-                clock, blocks, dof, world, vertex_next, contacts, subs, n_sub, time_step_mode, safety,
+                clock,
+                blocks,
+                dof,
+                world,
+                vertex_next,
+                contacts,
+                subs,
+                n_sub,
+                time_step_mode,
+                safety,
                 fixed_dt,
             )
             if status != DONE:
                 return done, status
         dt = clock[DT]
-        apply_loads(blocks, world, vertex_next, vertex_block, gravity, block_loads, load_block,
-                    edge_loads, load_edge, clock[STEP])
+        apply_loads(
+            blocks,
+            world,
+            vertex_next,
+            vertex_block,
+            gravity,
+            block_loads,
+            load_block,
+            edge_loads,
+            load_edge,
+            clock[STEP],
+        )
         contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, cos_tolerance, dt)
         moved = move_blocks(blocks, dof, damping, dt)
         update_vertices(blocks, vertex_block, local, world)

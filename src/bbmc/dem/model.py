@@ -307,7 +307,9 @@ def _monitors(scene: Scene, index: dict[str, int], group_names: list[str], path:
     return specs
 
 
-def _monitor_spec(m: Monitor, index: dict[str, int], group_names: list[str], path: Path, key: str) -> MonitorSpec:
+def _monitor_spec(
+    m: Monitor, index: dict[str, int], group_names: list[str], path: Path, key: str
+) -> MonitorSpec:
     block = _block_index(index, m.block, path, f"{key}.block") if m.block is not None else -1
     groups = None
     if m.between is not None:

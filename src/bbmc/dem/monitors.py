@@ -60,7 +60,9 @@ def point_displacement(blocks: np.ndarray, block: int, point: np.ndarray) -> np.
 def kinetic_energy(blocks: np.ndarray) -> float:
     """Sum of 1/2 (m v^2 + I w^2) with the true masses [J per m]; velocities of the last half step."""
     b = blocks
-    return 0.5 * float(np.sum(b[:, L.MASS] * (b[:, L.VX] ** 2 + b[:, L.VY] ** 2) + b[:, L.INERTIA] * b[:, L.W] ** 2))
+    return 0.5 * float(
+        np.sum(b[:, L.MASS] * (b[:, L.VX] ** 2 + b[:, L.VY] ** 2) + b[:, L.INERTIA] * b[:, L.W] ** 2)
+    )
 
 
 def potential_energy(blocks: np.ndarray, gravity: np.ndarray) -> float:
@@ -79,7 +81,9 @@ def strain_energy(subs: np.ndarray) -> float:
     return float(np.sum(s[:, L.LENGTH] * (normal + shear)))
 
 
-def _joint_value(spec: MonitorSpec, model: Model, contacts: np.ndarray, subs: np.ndarray, n_sub: int) -> float:
+def _joint_value(
+    spec: MonitorSpec, model: Model, contacts: np.ndarray, subs: np.ndarray, n_sub: int
+) -> float:
     active = subs[:, L.LENGTH] > 0
     if spec.groups is not None:
         ga = np.repeat(model.block_group[contacts[:, L.BLOCK_A]], n_sub)

@@ -79,8 +79,12 @@ def brick_wall(
         shift = (row * row_offset % 1.0) * block_width_m
         for column in range(columns):
             blocks.append(
-                rectangle(x0 + shift + column * block_width_m, y0 + row * block_height_m, block_width_m,
-                          block_height_m)
+                rectangle(
+                    x0 + shift + column * block_width_m,
+                    y0 + row * block_height_m,
+                    block_width_m,
+                    block_height_m,
+                )
             )
     return blocks
 

@@ -68,7 +68,7 @@ class BlockEntry(Section):
     brick_wall: BrickWall | None = None
     rotate_deg: float = 0.0  # counter-clockwise, about rotate_about_m [default: the centroid]
     rotate_about_m: Pair | None = None
-    fix: list[Dof] = []
+    fix: list[Dof] = Field(default_factory=list)
     velocity: Velocity | None = None
 
     @model_validator(mode="after")
@@ -169,7 +169,7 @@ class ContactRule(Section):
 
 class Contacts(Section):
     default_law: str
-    rules: list[ContactRule] = []
+    rules: list[ContactRule] = Field(default_factory=list)
     sub_contacts_per_edge: Annotated[int, Field(ge=1, le=64)] = 4
     angle_tolerance_deg: Annotated[float, Field(gt=0, le=45)] = 5.0
     search_margin_m: Positive | None = None  # default: 2 % of the median block size
@@ -188,14 +188,14 @@ class EdgeStress(Section):
 
 class BlockForce(Section):
     block: str
-    force_kN: Pair = [0.0, 0.0]  # per thickness, at the centroid
+    force_kN: Pair = Field(default_factory=lambda: [0.0, 0.0])  # total over the thickness, at the centroid
     moment_kN_m: float = 0.0
     ramp_steps: Steps = 0
 
 
 class Loads(Section):
-    edge_stresses: list[EdgeStress] = []
-    block_forces: list[BlockForce] = []
+    edge_stresses: list[EdgeStress] = Field(default_factory=list)
+    block_forces: list[BlockForce] = Field(default_factory=list)
 
 
 class TimeStep(Section):
@@ -262,14 +262,14 @@ class Monitor(Section):
 
 class Monitoring(Section):
     every_steps: Annotated[int, Field(ge=1)] = 100
-    monitors: list[Monitor] = []
+    monitors: list[Monitor] = Field(default_factory=list)
 
 
 class Scene(Section):
     name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_\-]+$")] | None = None  # [the file name]
     description: str = ""
     thickness_m: Positive = 1.0
-    gravity_m_s2: Pair = [0.0, -9.81]
+    gravity_m_s2: Pair = Field(default_factory=lambda: [0.0, -9.81])
     materials: Annotated[dict[str, Material], Field(min_length=1)]
     blocks: Annotated[list[BlockEntry], Field(min_length=1)]
     joint_laws: Annotated[dict[str, JointLaw], Field(min_length=1)]

@@ -106,7 +106,12 @@ def search_contacts(model: Model, state: State) -> None:
     cos_tolerance = math.cos(model.scene.contacts.angle_tolerance_deg * units.deg)
     pairs = candidate_pairs(state.world, model.vertex_start, immobile, model.search_margin)
     found = facing_edges(
-        pairs, state.world, model.vertex_start, model.vertex_next, b[:, L.SIZE], cos_tolerance,
+        pairs,
+        state.world,
+        model.vertex_start,
+        model.vertex_next,
+        b[:, L.SIZE],
+        cos_tolerance,
         model.search_margin,
     )
     n_vertices, n_sub = len(model.local), state.n_sub
@@ -142,8 +147,17 @@ def search_contacts(model: Model, state: State) -> None:
 def _set_time_step(model: Model, state: State) -> None:
     ts = model.scene.solver.time_step
     status = kernels.set_time_step(
-        state.clock, state.blocks, state.dof, state.world, model.vertex_next, state.contacts, state.subs,
-        state.n_sub, TIME_STEP_MODES[ts.mode], ts.safety_factor, ts.step_s or math.inf,
+        state.clock,
+        state.blocks,
+        state.dof,
+        state.world,
+        model.vertex_next,
+        state.contacts,
+        state.subs,
+        state.n_sub,
+        TIME_STEP_MODES[ts.mode],
+        ts.safety_factor,
+        ts.step_s or math.inf,
     )
     if status == kernels.STEP_ABOVE_CRITICAL:
         _above_critical(model, state)
@@ -186,14 +200,17 @@ def _check_health(model: Model, state: State) -> None:
     if not bad.any():
         return
     i = int(np.argmax(bad))
-    what = "a non-finite position or velocity" if not finite[i] else (
-        f"moved {travel[i]:.2g} of its size in one step"
+    what = (
+        "a non-finite position or velocity"
+        if not finite[i]
+        else (f"moved {travel[i]:.2g} of its size in one step")
     )
     critical = _critical(model, state) if np.all(finite) else math.nan
+    interval = model.scene.solver.update_interval_steps
     raise SimulationError(
         f"step {state.step}: block '{model.block_names[i]}' has {what}: the run went unstable; likely "
         f"cause: time step {dt:.3g} s above the critical step ({critical:.3g} s now), e.g. a fixed step "
-        f"or a joint stiffness that grew faster than the update interval ({model.scene.solver.update_interval_steps} steps)"
+        f"or a joint stiffness that grew faster than the update interval ({interval} steps)"
     )
 
 
@@ -240,11 +257,32 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
         chunk = min(every - state.step % every, solver.steps - state.step)
         before = state.step
         _, status = kernels.cycle(
-            chunk, state.clock, state.blocks, state.dof, model.vertex_block, model.vertex_next, model.local,
-            state.world, state.contacts, state.subs, state.n_sub, model.laws, model.params,
-            model.variable_laws, solver.update_interval_steps, model.gravity, model.block_loads,
-            model.load_block, model.edge_loads, model.load_edge, solver.damping, cos_tolerance,
-            model.search_margin, mode, ts.safety_factor, ts.step_s or math.inf,
+            chunk,
+            state.clock,
+            state.blocks,
+            state.dof,
+            model.vertex_block,
+            model.vertex_next,
+            model.local,
+            state.world,
+            state.contacts,
+            state.subs,
+            state.n_sub,
+            model.laws,
+            model.params,
+            model.variable_laws,
+            solver.update_interval_steps,
+            model.gravity,
+            model.block_loads,
+            model.load_block,
+            model.edge_loads,
+            model.load_edge,
+            solver.damping,
+            cos_tolerance,
+            model.search_margin,
+            mode,
+            ts.safety_factor,
+            ts.step_s or math.inf,
         )
         _check_health(model, state)
         if status == kernels.STEP_ABOVE_CRITICAL:
@@ -259,7 +297,10 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
         if state.step % every == 0 or state.step == solver.steps:
             _check_overlap(model, state, warnings)
             records.append(_record(model, state, reference))
-            if solver.stop and mon.unbalanced_force_ratio(state, reference) < solver.stop.unbalanced_force_ratio:
+            if (
+                solver.stop
+                and mon.unbalanced_force_ratio(state, reference) < solver.stop.unbalanced_force_ratio
+            ):
                 stopped_early = True
                 break
     return RunResult(
