@@ -80,6 +80,9 @@ from bbmc.dem.layout import (
     P_TAU_ULT_SLOPE,
     P_TEN,
     PRESCRIBED,
+    PVX,
+    PVY,
+    PW,
     RADIUS,
     SHEAR_BANDIS,
     SHEAR_CONSTANT,
@@ -294,7 +297,12 @@ def move_blocks(blocks, dof, damping, dt):
     (translation plus radius times rotation)."""
     largest = 0.0
     for i in range(blocks.shape[0]):
-        for d, v, f, m, vp in ((0, VX, FX, MX, VPX), (1, VY, FY, MY, VPY), (2, W, FM, MW, VPW)):
+        for d, v, f, m, vp, pv in (
+            (0, VX, FX, MX, VPX, PVX),
+            (1, VY, FY, MY, VPY, PVY),
+            (2, W, FM, MW, VPW, PW),
+        ):
+            blocks[i, pv] = blocks[i, v]
             if dof[i, d] == PRESCRIBED:
                 blocks[i, v] = blocks[i, vp]
             else:

@@ -58,22 +58,27 @@ def point_displacement(blocks: np.ndarray, block: int, point: np.ndarray) -> np.
 
 
 def kinetic_energy(blocks: np.ndarray) -> float:
-    """Sum of 1/2 (m v^2 + I w^2) with the true masses [J per m]; velocities of the last half step."""
+    """Sum of 1/2 (m v^2 + I w^2) with the true masses [J per m], the velocities averaged over the two
+    half steps around the last force evaluation (the leapfrog's full-step velocity)."""
     b = blocks
-    return 0.5 * float(
-        np.sum(b[:, L.MASS] * (b[:, L.VX] ** 2 + b[:, L.VY] ** 2) + b[:, L.INERTIA] * b[:, L.W] ** 2)
+    vx, vy, w = (
+        (b[:, now] + b[:, before]) / 2 for now, before in ((L.VX, L.PVX), (L.VY, L.PVY), (L.W, L.PW))
     )
+    return 0.5 * float(np.sum(b[:, L.MASS] * (vx**2 + vy**2) + b[:, L.INERTIA] * w**2))
 
 
-def potential_energy(blocks: np.ndarray, gravity: np.ndarray) -> float:
-    """Gravitational energy relative to the initial positions, -sum m g.(x - x0) [J per m]."""
-    lift = blocks[:, [L.X, L.Y]] - blocks[:, [L.X0, L.Y0]]
+def potential_energy(blocks: np.ndarray, gravity: np.ndarray, dt: float) -> float:
+    """Gravitational energy relative to the initial positions, -sum m g.(x - x0) [J per m], at the
+    positions of the last force evaluation (one step, dt, before the current ones)."""
+    then = blocks[:, [L.X, L.Y]] - dt * blocks[:, [L.VX, L.VY]]
+    lift = then - blocks[:, [L.X0, L.Y0]]
     return -float(np.sum(blocks[:, L.MASS] * (lift @ gravity)))
 
 
 def strain_energy(subs: np.ndarray) -> float:
-    """Elastic energy stored in the joints, sum L (sigma_n^2 / 2 K_n + tau^2 / 2 K_s) [J per m]; exact
-    for constant stiffness (a stress-dependent law stores a different amount)."""
+    """Elastic energy stored in the joints at the last force evaluation, sum L (sigma_n^2 / 2 K_n +
+    tau^2 / 2 K_s) [J per m]; exact for constant stiffness (a stress-dependent law stores a different
+    amount)."""
     s = subs[subs[:, L.LENGTH] > 0]
     with np.errstate(divide="ignore", invalid="ignore"):
         normal = np.where(s[:, L.KN] > 0, s[:, L.SN] ** 2 / (2 * s[:, L.KN]), 0.0)
@@ -123,7 +128,7 @@ def monitor_value(spec: MonitorSpec, model: Model, state, reference_force: float
     elif q == "kinetic_energy":
         value = thickness * kinetic_energy(b)
     elif q == "potential_energy":
-        value = thickness * potential_energy(b, model.gravity)
+        value = thickness * potential_energy(b, model.gravity, state.clock[L.DT] if state.step else 0.0)
     elif q == "strain_energy":
         value = thickness * strain_energy(state.subs)
     elif q == "unbalanced_force_ratio":
