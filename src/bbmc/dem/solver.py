@@ -26,7 +26,8 @@ from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
-RUNAWAY_FRACTION = 0.1  # a block moving this fraction of its size in one step has gone unstable
+RUNAWAY_FRACTION = 0.1  # a block moving this fraction of its size in one step: the run is lost (an
+# unstable time step grows without bound; a block this fast skips through contacts either way)
 
 
 class SimulationError(Exception):
@@ -206,11 +207,20 @@ def _check_health(model: Model, state: State) -> None:
         else (f"moved {travel[i]:.2g} of its size in one step")
     )
     critical = _critical(model, state) if np.all(finite) else math.nan
-    interval = model.scene.solver.update_interval_steps
+    if not dt <= critical:
+        cause = (
+            f"time step {dt:.3g} s above the critical step ({critical:.3g} s now), e.g. a fixed step or a "
+            f"joint stiffness that grew faster than the update interval "
+            f"({model.scene.solver.update_interval_steps} steps)"
+        )
+    else:
+        cause = (
+            f"a load too large for the joints (time step {dt:.3g} s is below the critical {critical:.3g} s): "
+            "stiffer joints, or ramp the load up (ramp_steps)"
+        )
     raise SimulationError(
-        f"step {state.step}: block '{model.block_names[i]}' has {what}: the run went unstable; likely "
-        f"cause: time step {dt:.3g} s above the critical step ({critical:.3g} s now), e.g. a fixed step "
-        f"or a joint stiffness that grew faster than the update interval ({interval} steps)"
+        f"step {state.step}: block '{model.block_names[i]}' has {what}: the run went unstable; "
+        f"likely cause: {cause}"
     )
 
 

@@ -1,0 +1,243 @@
+"""The engine's machinery: contact search, faults, the run command, determinism."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from bbmc.cli import main
+from bbmc.dem import kernels, polygons
+from bbmc.dem import layout as L
+from bbmc.dem.detection import candidate_pairs
+from bbmc.dem.solver import (
+    SimulationError,
+    _check_health,
+    _critical,
+    initial_state,
+    load_scene,
+    search_contacts,
+)
+from dem_scenes import block_on_base, constant_joint, edited, run_scene, write_scene
+
+
+def _run(path, results):
+    return CliRunner().invoke(main, ["run", "--config", str(path), "--results", str(results)])
+
+
+def _boxes_overlap(world, start, a, b, margin):
+    pa, pb = world[start[a] : start[a + 1]], world[start[b] : start[b + 1]]
+    return not (
+        pa[:, 0].min() - margin / 2 > pb[:, 0].max() + margin / 2
+        or pb[:, 0].min() - margin / 2 > pa[:, 0].max() + margin / 2
+        or pa[:, 1].min() - margin / 2 > pb[:, 1].max() + margin / 2
+        or pb[:, 1].min() - margin / 2 > pa[:, 1].max() + margin / 2
+    )
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.tuples(
+            st.floats(0, 20), st.floats(0, 20), st.floats(0.05, 3), st.floats(0.05, 3), st.floats(-1.5, 1.5)
+        ),
+        min_size=2,
+        max_size=40,
+    ),
+    st.floats(0.0, 0.5),
+)
+def test_grid_search_finds_exactly_the_pairs_an_all_pairs_search_finds(shapes, margin):
+    """Random turned rectangles of mixed sizes: the grid broad phase returns every overlapping pair,
+    once, and nothing else."""
+    polys = [
+        polygons.rotated(polygons.rectangle(x, y, w, h), t, np.array([x, y])) for x, y, w, h, t in shapes
+    ]
+    world = np.vstack(polys)
+    start = np.concatenate([[0], np.cumsum([len(p) for p in polys])]).astype(np.int64)
+    immobile = np.zeros(len(polys), dtype=bool)
+    found = {tuple(p) for p in candidate_pairs(world, start, immobile, margin)}
+    expected = {
+        (a, b)
+        for a in range(len(polys))
+        for b in range(a + 1, len(polys))
+        if _boxes_overlap(world, start, a, b, margin)
+    }
+    assert found == expected
+    assert len(candidate_pairs(world, start, immobile, margin)) == len(found)
+
+
+def test_search_skips_pairs_of_two_fixed_blocks():
+    world = np.vstack([polygons.rectangle(0, 0, 1, 1), polygons.rectangle(1, 0, 1, 1)])
+    start = np.array([0, 4, 8], dtype=np.int64)
+    assert len(candidate_pairs(world, start, np.array([True, True]), 0.1)) == 0
+    assert len(candidate_pairs(world, start, np.array([True, False]), 0.1)) == 1
+
+
+def test_same_scene_gives_identical_files(tmp_path):
+    path = write_scene(tmp_path, block_on_base(30.0, constant_joint(20.0), steps=1500))
+    for name in ("a", "b"):
+        assert _run(path, tmp_path / name).exit_code == 0
+    for table in ("history", "blocks", "contacts", "summary"):
+        first = (tmp_path / "a" / "run" / "block_on_base" / f"{table}.csv").read_bytes()
+        assert first == (tmp_path / "b" / "run" / "block_on_base" / f"{table}.csv").read_bytes()
+
+
+def test_run_writes_every_file(tmp_path):
+    path = write_scene(tmp_path, block_on_base(30.0, constant_joint(20.0), steps=500))
+    result = _run(path, tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    written = sorted(p.name for p in (tmp_path / "out" / "run" / "block_on_base").iterdir())
+    assert written == [
+        "blocks.csv",
+        "contacts.csv",
+        "history.csv",
+        "history.png",
+        "provenance.json",
+        "scene.png",
+        "summary.csv",
+        "warnings.csv",
+    ]
+
+
+def test_fixed_time_step_above_critical_is_refused_before_any_step(tmp_path):
+    scene = block_on_base(0.0, constant_joint(30.0), steps=100)
+    scene["solver"]["time_step"] = {"mode": "fixed", "step_s": 1e-2}
+    result = _run(write_scene(tmp_path, scene), tmp_path / "out")
+    assert result.exit_code == 2
+    assert "key 'solver.time_step.step_s'" in result.output
+    assert "critical" in result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+
+
+def _stiffening_scene(step_s: float) -> dict:
+    """Eq 8 normal stiffness (K_n proportional to sigma_n) under a normal stress ramped to 2 MPa."""
+    joint = {
+        "law": "barton_bandis",
+        "strength": {"jrc": 2.13, "jcs_MPa": 3.31, "phi_b_deg": 32.0},
+        "normal_stiffness": {"law": "eq8", "q_per_mm": 7.715},
+        "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": 1.0},
+    }
+    scene = block_on_base(0.0, joint, steps=4000, gravity=(0.0, 0.0), slider_fix=("rotation",), damping=0.8)
+    scene["loads"] = {
+        "edge_stresses": [{"block": "slider", "edge": "up", "sigma_n_MPa": 2.0, "ramp_steps": 3000}]
+    }
+    scene["solver"]["time_step"] = {"mode": "fixed", "step_s": step_s}
+    scene["solver"]["update_interval_steps"] = 10
+    return scene
+
+
+def test_fixed_step_that_becomes_unstable_stops_the_run_naming_the_step(tmp_path):
+    """The stress-dependent K_n grows 200-fold with the load: a fixed step fine at the start is above
+    the critical one later; the run stops with one line naming the step, exit 3, nothing written."""
+    model = load_scene(write_scene(tmp_path, _stiffening_scene(1.0)))
+    state = initial_state(model)
+    search_contacts(model, state)
+    kernels.update_joint_laws(state.contacts, state.subs, state.n_sub, model.laws, model.params)
+    start_critical = _critical(model, state)
+    result = _run(write_scene(tmp_path, _stiffening_scene(0.5 * start_critical)), tmp_path / "out")
+    assert result.exit_code == 3, result.output
+    line = result.output.strip()
+    assert len(line.splitlines()) == 1
+    assert line.startswith("bbmc run: error: step ")
+    assert "above the critical step" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_runaway_block_is_reported_with_the_step_and_the_cause(tmp_path):
+    model = load_scene(write_scene(tmp_path, block_on_base(0.0, constant_joint(30.0))))
+    state = initial_state(model)
+    search_contacts(model, state)
+    state.clock[L.DT] = 1e-4
+    state.clock[L.STEP] = 123
+    state.blocks[1, L.VX] = 1e6
+    with pytest.raises(SimulationError, match=r"step 123: block 'slider' has moved .* likely cause: a load"):
+        _check_health(model, state)
+    state.clock[L.DT] = 1.0
+    with pytest.raises(SimulationError, match=r"likely cause: time step 1 s above the critical step"):
+        _check_health(model, state)
+    state.blocks[1, L.VX] = math.nan
+    with pytest.raises(SimulationError, match="non-finite"):
+        _check_health(model, state)
+
+
+def test_interpenetration_beyond_the_limit_is_reported(tmp_path):
+    """A joint far too soft for its 2 MPa load (closure 7 % of the block size, the limit 5 %): the run
+    finishes, and says so on stderr and in its files."""
+    scene = block_on_base(
+        0.0,
+        constant_joint(30.0, k_MPa_per_mm=0.1),
+        steps=3000,
+        gravity=(0.0, 0.0),
+        damping=0.8,
+        slider_fix=("rotation",),
+    )
+    scene["loads"] = {
+        "edge_stresses": [{"block": "slider", "edge": "up", "sigma_n_MPa": 2.0, "ramp_steps": 2000}]
+    }
+    result = _run(write_scene(tmp_path, scene), tmp_path / "out")
+    assert result.exit_code == 0
+    assert "warning: step" in result.output and "interpenetrate" in result.output
+    out = tmp_path / "out" / "run" / "block_on_base"
+    assert "interpenetrate" in (out / "warnings.csv").read_text()
+    summary = pd.read_csv(out / "summary.csv").set_index("quantity")["value"]
+    assert summary["largest_interpenetration"] > 0.05
+
+
+@pytest.mark.parametrize(
+    ("change", "key"),
+    [
+        ({"blocks.1.material": "granite"}, "blocks.1.material"),
+        ({"contacts.default_law": "nothing"}, "contacts.default_law"),
+        ({"monitoring.monitors.0.block": "slidr"}, "monitoring.monitors.0.block"),
+        ({"blocks.1.rectangle_m.width_m": -1.0}, "blocks.1.rectangle_m.width_m"),
+        ({"solver.damping": 1.5}, "solver.damping"),
+        ({"joint_laws.joint.friction_deg": 95.0}, "joint_laws.joint.constant.friction_deg"),
+    ],
+)
+def test_bad_scene_gives_one_line_naming_the_key(tmp_path, change, key):
+    scene = edited(block_on_base(0.0, constant_joint(30.0), steps=10), **change)
+    result = _run(write_scene(tmp_path, scene), tmp_path / "out")
+    assert result.exit_code == 2, result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert f"key '{key}'" in result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_non_convex_block_is_refused(tmp_path):
+    scene = block_on_base(0.0, constant_joint(30.0), steps=10)
+    scene["blocks"][1] = {
+        "name": "slider",
+        "material": "rock",
+        "polygon_m": [[0, 0], [1, 0], [0.5, 0.2], [1, 1], [0, 1]],
+    }
+    result = _run(write_scene(tmp_path, scene), tmp_path / "out")
+    assert result.exit_code == 2
+    assert "not strictly convex" in result.output
+
+
+def test_unknown_scene_key_suggests_the_right_one(tmp_path):
+    scene = block_on_base(0.0, constant_joint(30.0), steps=10)
+    scene["solver"]["dampng"] = 0.5
+    result = _run(write_scene(tmp_path, scene), tmp_path / "out")
+    assert result.exit_code == 2
+    assert "did you mean 'damping'" in result.output
+
+
+def test_run_needs_a_scene():
+    result = CliRunner().invoke(main, ["run"])
+    assert result.exit_code == 2
+    assert "--config" in result.output
+
+
+def test_prescribed_velocity_drags_a_block_at_that_speed(tmp_path):
+    """A block given x velocity 0.005 m/s moves 0.005 m/s x time, whatever the joint does."""
+    scene = block_on_base(0.0, constant_joint(30.0), steps=2000)
+    scene["blocks"][1]["velocity"] = {"x_m_s": 0.005}
+    h = run_scene(tmp_path, scene).history
+    np.testing.assert_allclose(h["ux_mm"] * 1e-3, 0.005 * h["time_s"], rtol=1e-9, atol=1e-12)
