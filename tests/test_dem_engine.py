@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from bbmc.cli import main
 from bbmc.dem import kernels, polygons
 from bbmc.dem import layout as L
+from bbmc.dem.benchmark import engine_table
 from bbmc.dem.detection import candidate_pairs
 from bbmc.dem.solver import (
     SimulationError,
@@ -241,3 +242,13 @@ def test_prescribed_velocity_drags_a_block_at_that_speed(tmp_path):
     scene["blocks"][1]["velocity"] = {"x_m_s": 0.005}
     h = run_scene(tmp_path, scene).history
     np.testing.assert_allclose(h["ux_mm"] * 1e-3, 0.005 * h["time_s"], rtol=1e-9, atol=1e-12)
+
+
+def test_engine_benchmark_reports_rates_and_growth():
+    """The benchmark's table on two small walls: sizes as asked, finite rates, the growth columns."""
+    table = engine_table([20, 80], sub_contacts=2, steps=20, repeats=1)
+    assert list(table["blocks"]) == [22, 79]  # the nearest walls, plus the base
+    assert (table["sub_contact_updates_per_s"] > 0).all()
+    assert table["sub_contacts"].iloc[1] == 2 * table["contacts"].iloc[1]
+    assert np.isfinite(table["growth_exponent_vs_previous"].iloc[1])
+    assert table["cost_over_NlogN_relative"].iloc[0] == 1.0

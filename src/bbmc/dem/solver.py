@@ -168,6 +168,11 @@ def _set_time_step(model: Model, state: State) -> None:
             "bound; give step_s as its upper limit",
             bad_input=True,
         )
+    _note_time_step(state)
+
+
+def _note_time_step(state: State) -> None:
+    """Keep the range of time steps used (law updates inside the kernel may change it)."""
     state.dt_range[0] = min(state.dt_range[0], state.clock[L.DT])
     state.dt_range[1] = max(state.dt_range[1], state.clock[L.DT])
 
@@ -245,29 +250,25 @@ def _check_overlap(model: Model, state: State, warnings: list[str]) -> None:
         )
 
 
-def simulate(model: Model, progress: Callable[[int], None] | None = None) -> RunResult:
-    """Run the scene: `solver.steps` cycles, or fewer if the stop condition is met.
-
-    `progress(n)` is called with the number of cycles done since its last call.
-    """
-    scene, state, warnings = model.scene, initial_state(model), []
-    solver = scene.solver
+def prepare(model: Model) -> State:
+    """The state at step 0: contacts found, joint laws evaluated, time step set."""
+    state = initial_state(model)
     search_contacts(model, state)
     if model.variable_laws:
         kernels.update_joint_laws(state.contacts, state.subs, state.n_sub, model.laws, model.params)
     _set_time_step(model, state)
-    reference = mon.reference_force(model)
-    every = scene.monitoring.every_steps
-    records = [_record(model, state, reference)]
-    cos_tolerance = math.cos(scene.contacts.angle_tolerance_deg * units.deg)
-    ts = solver.time_step
-    mode = TIME_STEP_MODES[ts.mode]
-    stopped_early = False
-    while state.step < solver.steps:
-        chunk = min(every - state.step % every, solver.steps - state.step)
-        before = state.step
+    return state
+
+
+def advance(model: Model, state: State, n_steps: int) -> None:
+    """Run n_steps cycles, searching contacts whenever blocks have moved enough, and stop the run
+    with a `SimulationError` if it goes wrong."""
+    solver, ts = model.scene.solver, model.scene.solver.time_step
+    cos_tolerance = math.cos(model.scene.contacts.angle_tolerance_deg * units.deg)
+    end = state.step + n_steps
+    while state.step < end:
         _, status = kernels.cycle(
-            chunk,
+            end - state.step,
             state.clock,
             state.blocks,
             state.dof,
@@ -290,7 +291,7 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
             solver.damping,
             cos_tolerance,
             model.search_margin,
-            mode,
+            TIME_STEP_MODES[ts.mode],
             ts.safety_factor,
             ts.step_s or math.inf,
         )
@@ -300,19 +301,30 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
         if status == kernels.SEARCH_NEEDED:
             search_contacts(model, state)
             _set_time_step(model, state)
-        state.dt_range[0] = min(state.dt_range[0], state.clock[L.DT])
-        state.dt_range[1] = max(state.dt_range[1], state.clock[L.DT])
+        _note_time_step(state)
+
+
+def simulate(model: Model, progress: Callable[[int], None] | None = None) -> RunResult:
+    """Run the scene: `solver.steps` cycles, or fewer if the stop condition is met.
+
+    `progress(n)` is called with the number of cycles done since its last call.
+    """
+    solver, warnings = model.scene.solver, []
+    state = prepare(model)
+    reference = mon.reference_force(model)
+    every = model.scene.monitoring.every_steps
+    records = [_record(model, state, reference)]
+    stopped_early = False
+    while state.step < solver.steps:
+        chunk = min(every - state.step % every, solver.steps - state.step)
+        advance(model, state, chunk)
         if progress:
-            progress(state.step - before)
-        if state.step % every == 0 or state.step == solver.steps:
-            _check_overlap(model, state, warnings)
-            records.append(_record(model, state, reference))
-            if (
-                solver.stop
-                and mon.unbalanced_force_ratio(state, reference) < solver.stop.unbalanced_force_ratio
-            ):
-                stopped_early = True
-                break
+            progress(chunk)
+        _check_overlap(model, state, warnings)
+        records.append(_record(model, state, reference))
+        if solver.stop and mon.unbalanced_force_ratio(state, reference) < solver.stop.unbalanced_force_ratio:
+            stopped_early = True
+            break
     return RunResult(
         history=pd.DataFrame(records),
         blocks=mon.block_table(model, state.blocks),

@@ -4,13 +4,17 @@ For each law: evaluations per second as a numpy ufunc over an array, inside an n
 the plain Python source in a Python loop (its calls to other laws still run compiled, so the
 python column flatters plain Python for the composite laws), plus the ratios between them. Wall-clock
 numbers depend on the machine and its load; the ratios, measured in the same run, are what to
-compare across machines. The block-engine benchmarks of later issues add their own tables here.
+compare across machines.
+
+engine.csv: the block engine's steps and sub-contact updates per second on generated brick walls of
+increasing size, and how its cost per step grows with the number of blocks (`bbmc.dem.benchmark`).
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import Annotated
 
 import numba
 import numpy as np
@@ -19,16 +23,25 @@ from pydantic import Field
 
 from bbmc import laws, units
 from bbmc.config import Section
+from bbmc.dem.benchmark import engine_table
 from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
 
 NAME = "bench"
 
 
+class EngineBench(Section):
+    block_counts: list[Annotated[int, Field(ge=10, le=1_000_000)]] = Field(min_length=1)
+    sub_contacts_per_edge: int = Field(ge=1, le=64)
+    steps: int = Field(ge=10, le=1_000_000)
+    repeats: int = Field(ge=1, le=100)
+
+
 class Config(Section):
     array_size: int = Field(ge=1_000, le=100_000_000)
     python_loop_size: int = Field(ge=100, le=10_000_000)
     repeats: int = Field(ge=1, le=100)
+    engine: EngineBench
 
 
 @numba.njit(cache=True)
@@ -98,4 +111,8 @@ def run(config: Config) -> StageResult:
                 "python_loop_size": small.size,
             }
         )
-    return StageResult(tables={"laws": pd.DataFrame(rows)})
+    engine = config.engine
+    table = engine_table(
+        sorted(engine.block_counts), engine.sub_contacts_per_edge, engine.steps, engine.repeats
+    )
+    return StageResult(tables={"laws": pd.DataFrame(rows), "engine": table})
