@@ -25,6 +25,7 @@ from bbmc.dem.solver import (
     search_contacts,
 )
 from dem_scenes import block_on_base, constant_joint, edited, run_scene, write_scene
+from stage_runs import ROOT
 
 
 def _run(path, results):
@@ -252,3 +253,61 @@ def test_engine_benchmark_reports_rates_and_growth():
     assert table["sub_contacts"].iloc[1] == 2 * table["contacts"].iloc[1]
     assert np.isfinite(table["growth_exponent_vs_previous"].iloc[1])
     assert table["cost_over_NlogN_relative"].iloc[0] == 1.0
+
+
+def test_corner_pushed_through_a_face_is_reported(tmp_path):
+    """A square standing on its corner: the edge-to-edge model has no contact to resist it, so it
+    sinks into the base; the vertex check sees it and warns."""
+    scene = block_on_base(0.0, constant_joint(30.0), steps=3000, every=100)
+    scene["blocks"][1].update(
+        rectangle_m={"x_m": 0.0, "y_m": 0.0, "width_m": 0.2, "height_m": 0.2},
+        rotate_deg=45.0,
+        rotate_about_m=[0.0, 0.0],
+    )
+    scene["solver"]["time_step"] = {"step_s": 1e-4}
+    result = _run(write_scene(tmp_path, scene), tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    assert "interpenetrate" in result.output and "corner" in result.output
+
+
+def test_fixed_step_error_names_the_scene_file(tmp_path):
+    scene = block_on_base(0.0, constant_joint(30.0), steps=100)
+    scene["solver"]["time_step"] = {"mode": "fixed", "step_s": 1e-2}
+    path = write_scene(tmp_path, scene)
+    assert f"{path}: key 'solver.time_step.step_s'" in _run(path, tmp_path / "out").output
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"monitoring.monitors.2.point_m": [0.1, 0.1]}, "point_m applies to ux and uy only"),
+        (
+            {
+                "joint_laws.joint": {
+                    "law": "barton_bandis",
+                    "strength": {"jrc": 2, "jcs_MPa": 3, "phi_b_deg": 75},
+                    "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": 1},
+                    "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": 1},
+                }
+            },
+            "must exceed phi_b_deg",
+        ),
+    ],
+)
+def test_meaningless_scene_values_are_refused(tmp_path, change, message):
+    scene = edited(block_on_base(0.0, constant_joint(30.0), steps=10), **change)
+    result = _run(write_scene(tmp_path, scene), tmp_path / "out")
+    assert result.exit_code == 2
+    assert message in result.output
+
+
+def test_the_documented_example_scene_runs_as_written(tmp_path):
+    """The first yaml block of docs/scene-format.md is configs/scenes/example.yaml, and it runs."""
+    doc = (ROOT / "docs" / "scene-format.md").read_text()
+    block = doc.split("```yaml\n", 1)[1].split("```", 1)[0]
+    assert block == (ROOT / "configs" / "scenes" / "example.yaml").read_text()
+    path = tmp_path / "example.yaml"
+    path.write_text(block)
+    result = _run(path, tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    assert "warning:" not in result.output

@@ -178,6 +178,10 @@ def run_command(config: str | None, results: str) -> None:
         progress = _Progress(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
             result, outcome = run_stage.run(scene, config_path, progress)
+        except SimulationError as error:
+            if error.bad_input:
+                raise ConfigError(f"{config_path}: {error}") from None
+            raise
         finally:
             progress.close()
         for warning in outcome.warnings:

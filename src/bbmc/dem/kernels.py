@@ -1,8 +1,8 @@
 """The engine's hot loops: one explicit cycle of a 2D rigid-block DEM, in numba over flat arrays.
 
-A cycle (one "step", as in UDEC) is: contact forces from the current positions and the last
-half-step velocities (incremental force-displacement law per sub-contact, Mohr-Coulomb slip with a
-tension cut-off), loads (gravity, edge stresses, block forces), then the central-difference update
+A cycle (one "step", as in UDEC) is: loads (gravity, edge stresses, block forces), contact forces from
+the current positions and the last half-step velocities (incremental force-displacement law per
+sub-contact, Mohr-Coulomb slip with a tension cut-off), then the central-difference update
 of velocities (with Cundall's local damping) and positions. Every `update_interval` cycles the
 stress-dependent joint laws are re-evaluated at each sub-contact from its own stresses through the
 scalar laws of `bbmc.laws` (the same code the numpy ufuncs run), and the time step is recomputed.
@@ -19,7 +19,9 @@ Rules (documented options of the scene format):
 
 * Open: an unbonded sub-contact (tensile strength 0) with u_n <= 0 carries no force.
 * Tension cut-off: a bonded sub-contact (tensile strength T > 0) may carry sigma_n down to -T; below,
-  it fails: sigma_n = tau = 0 and its cohesion and tensile strength become 0 for good.
+  it fails: sigma_n = tau = 0, its tensile strength becomes 0 for good and so does its cohesion, except
+  that a Barton-Bandis law with ``after_slip = keep`` re-derives the tangent cohesion at its next
+  update (that cohesion is the envelope's intercept, not a bond).
 * Slip: |tau| <= c + sigma_n tan(phi); at the limit tau stays on it and the sub-contact is marked
   slipped. With ``after_slip = zero`` (Itasca's Coulomb joint) its cohesion and tensile strength drop
   to 0 at the first slip and stay 0, also through later law updates; with ``keep`` they are kept.

@@ -139,9 +139,10 @@ def monitor_value(spec: MonitorSpec, model: Model, state, reference_force: float
 
 
 def reference_force(model: Model) -> float:
-    """The force scale of the unbalanced-force ratio [N per m]: the largest block weight, block force
-    or edge load."""
-    weights = model.blocks[:, L.MASS] * float(np.hypot(*model.gravity))
+    """The force scale of the unbalanced-force ratio [N per m]: the largest weight of a block free to
+    translate, block force or edge load."""
+    free = np.any(model.dof[:, :2] == L.FREE, axis=1)
+    weights = model.blocks[free, L.MASS] * float(np.hypot(*model.gravity))
     forces = np.hypot(model.block_loads[:, 0], model.block_loads[:, 1])
     edges = np.abs(model.edge_loads[:, :2]).sum(axis=1) * _edge_lengths(model)
     largest = max([0.0, *weights, *forces, *edges])

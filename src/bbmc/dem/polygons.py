@@ -1,7 +1,7 @@
 """Block geometry: convex polygons, their mass properties, and the named block generators.
 
-Plain numpy; vertices in metres, counter-clockwise. Mass properties are per unit density and unit
-thickness; the model multiplies them by density and thickness.
+Plain numpy; vertices in metres, counter-clockwise. Mass properties are per unit density and per
+metre of thickness; the model multiplies them by density (the engine works per metre of thickness).
 """
 
 from __future__ import annotations

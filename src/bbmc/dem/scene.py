@@ -98,6 +98,12 @@ class BartonBandisStrength(Section):
     phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
     tangent_coefficient: Positive | Literal["exact"] = "exact"  # eq 15 prints 0.016
 
+    @model_validator(mode="after")
+    def _cap_above_basic(self) -> BartonBandisStrength:
+        if self.phi_max_deg <= self.phi_b_deg:
+            raise ValueError(f"phi_max_deg ({self.phi_max_deg}) must exceed phi_b_deg ({self.phi_b_deg})")
+        return self
+
 
 class LinearStrength(Section):
     """tau = slope x + intercept: Table 1's fits of tau_p on sigma_n and tau_ult on tau_p (eq 4)."""
@@ -251,6 +257,8 @@ class Monitor(Section):
         if self.quantity in BLOCK_QUANTITIES:
             if self.block is None or self.between is not None or self.near_m is not None:
                 raise ValueError(f"'{self.quantity}' is a block quantity: give block (and point_m)")
+            if self.point_m is not None and self.quantity not in ("ux", "uy"):
+                raise ValueError(f"point_m applies to ux and uy only, not to '{self.quantity}'")
         elif self.quantity in JOINT_QUANTITIES:
             _exactly_one(self, ("between", "near_m"), f"joint for '{self.quantity}'")
             if self.block is not None or self.point_m is not None:

@@ -21,7 +21,7 @@ from bbmc.config import load_config
 from bbmc.dem import kernels
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
-from bbmc.dem.detection import candidate_pairs, facing_edges
+from bbmc.dem.detection import candidate_pairs, facing_edges, vertex_penetration
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
 
@@ -103,7 +103,7 @@ def _joint_types(model: Model, world: np.ndarray, found: np.ndarray) -> np.ndarr
 def search_contacts(model: Model, state: State) -> None:
     """Find the facing edge pairs now within the margin; contacts found before keep their state."""
     b = state.blocks
-    immobile = np.all((state.dof == L.PRESCRIBED) & (b[:, [L.VPX, L.VPY, L.VPW]] == 0.0), axis=1)
+    immobile = _immobile(state)
     cos_tolerance = math.cos(model.scene.contacts.angle_tolerance_deg * units.deg)
     pairs = candidate_pairs(state.world, model.vertex_start, immobile, model.search_margin)
     found = facing_edges(
@@ -164,8 +164,8 @@ def _set_time_step(model: Model, state: State) -> None:
         _above_critical(model, state)
     if not math.isfinite(state.clock[L.DT]):
         raise SimulationError(
-            "key 'solver.time_step.step_s': nothing is in contact, so the automatic time step has no "
-            "bound; give step_s as its upper limit",
+            f"key 'solver.time_step.step_s': at step {state.step} nothing is in contact, so the automatic "
+            "time step has no bound; give step_s as its upper limit",
             bad_input=True,
         )
     _note_time_step(state)
@@ -229,24 +229,31 @@ def _check_health(model: Model, state: State) -> None:
     )
 
 
+def _immobile(state: State) -> np.ndarray:
+    """Blocks with every degree of freedom held at zero velocity: they can never load each other."""
+    held = (state.dof == L.PRESCRIBED) & (state.blocks[:, [L.VPX, L.VPY, L.VPW]] == 0.0)
+    return np.all(held, axis=1)
+
+
 def _check_overlap(model: Model, state: State, warnings: list[str]) -> None:
-    """Record the deepest interpenetration as a fraction of the smaller block's size; warn once."""
-    subs, n_sub = state.subs, state.n_sub
-    if not len(subs):
+    """Record the deepest interpenetration of any two blocks (a vertex of one inside the other), as a
+    fraction of the smaller block's size; warn once when it passes the scene's limit."""
+    pairs = candidate_pairs(state.world, model.vertex_start, _immobile(state), 0.0)
+    if not len(pairs):
         return
-    size = np.minimum(
-        state.blocks[state.contacts[:, L.BLOCK_A], L.SIZE], state.blocks[state.contacts[:, L.BLOCK_B], L.SIZE]
-    )
-    depth = np.where(subs[:, L.LENGTH] > 0, subs[:, L.UN], 0.0) / np.repeat(size, n_sub)
-    k = int(np.argmax(depth))
-    state.largest_overlap = max(state.largest_overlap, float(depth[k]))
+    depth = vertex_penetration(pairs, state.world, model.vertex_start, model.vertex_next)
+    size = state.blocks[:, L.SIZE]
+    relative = depth / np.minimum(size[pairs[:, 0]], size[pairs[:, 1]])
+    k = int(np.argmax(relative))
+    state.largest_overlap = max(state.largest_overlap, float(relative[k]))
     limit = model.scene.contacts.interpenetration_limit
-    if depth[k] > limit and not any("interpenetrate" in w for w in warnings):
-        c = state.contacts[k // n_sub]
+    if relative[k] > limit and not any("interpenetrate" in w for w in warnings):
+        a, b = pairs[k]
         warnings.append(
-            f"step {state.step}: blocks '{model.block_names[c[L.BLOCK_A]]}' and "
-            f"'{model.block_names[c[L.BLOCK_B]]}' interpenetrate by {100 * depth[k]:.3g} % of the smaller "
-            f"block's size (limit {100 * limit:.3g} %): the joint stiffness is too low for the load"
+            f"step {state.step}: blocks '{model.block_names[a]}' and '{model.block_names[b]}' "
+            f"interpenetrate by {100 * relative[k]:.3g} % of the smaller block's size (limit "
+            f"{100 * limit:.3g} %): joints too soft for the load, or a corner pressed into a face "
+            "(edge-to-edge contacts only)"
         )
 
 
