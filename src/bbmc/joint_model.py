@@ -25,12 +25,29 @@ from typing import Literal
 
 import numpy as np
 import pandas as pd
+from pydantic import Field, model_validator
 
 from bbmc import laws, units
+from bbmc.config import Section
 from bbmc.fitting import linear_fit, power_law_fit
 
 Choice = Literal["paper", "corrected"]
 SIGMA_REF = 1.0 * units.MPa  # the paper's sigma_n is in MPa: K_j is the stiffness at 1 MPa
+
+
+class BartonBandisJoint(Section):
+    """The joint's eq 9 inputs as a config gives them: JRC [1], JCS [MPa], phi_b and phi_max [deg]."""
+
+    jrc: float = Field(ge=0, le=20)
+    jcs_MPa: float = Field(gt=0)
+    phi_b_deg: float = Field(gt=0, lt=90)
+    phi_max_deg: float = Field(gt=0, lt=90)
+
+    @model_validator(mode="after")
+    def _cap_above_basic(self) -> BartonBandisJoint:
+        if self.phi_max_deg <= self.phi_b_deg:
+            raise ValueError(f"phi_max_deg ({self.phi_max_deg}) must exceed phi_b_deg ({self.phi_b_deg})")
+        return self
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import Section
+from bbmc.joint_model import BartonBandisJoint
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
 Names = Annotated[list[str], Field(min_length=2, max_length=2)]
@@ -89,20 +90,11 @@ class ConstantLaw(Section):
     after_slip: AfterSlip = "zero"
 
 
-class BartonBandisStrength(Section):
+class BartonBandisStrength(BartonBandisJoint):
     """Eq 9 envelope; its tangent at the sub-contact's sigma_n gives phi and c (eqs 13-15)."""
 
-    jrc: Annotated[float, Field(ge=0, le=20)]
-    jcs_MPa: Positive
-    phi_b_deg: Annotated[float, Field(gt=0, lt=90)]
     phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
     tangent_coefficient: Positive | Literal["exact"] = "exact"  # eq 15 prints 0.016
-
-    @model_validator(mode="after")
-    def _cap_above_basic(self) -> BartonBandisStrength:
-        if self.phi_max_deg <= self.phi_b_deg:
-            raise ValueError(f"phi_max_deg ({self.phi_max_deg}) must exceed phi_b_deg ({self.phi_b_deg})")
-        return self
 
 
 class LinearStrength(Section):

@@ -28,19 +28,6 @@ class Inputs(Section):
     equation_constants: InputFile
 
 
-class Joint(Section):
-    jrc: float = Field(ge=0, le=20)
-    jcs_MPa: float = Field(gt=0)
-    phi_b_deg: float = Field(gt=0, lt=90)
-    phi_max_deg: float = Field(gt=0, lt=90)
-
-    @model_validator(mode="after")
-    def _cap_above_basic(self) -> Joint:
-        if self.phi_max_deg <= self.phi_b_deg:
-            raise ValueError(f"phi_max_deg ({self.phi_max_deg}) must exceed phi_b_deg ({self.phi_b_deg})")
-        return self
-
-
 class Errata(Section):
     lg_e: jm.Choice
     tangent_coefficient: jm.Choice
@@ -62,7 +49,7 @@ class Grid(Section):
 
 class Config(Section):
     data: Inputs
-    joint: Joint
+    joint: jm.BartonBandisJoint
     stiffness_coefficients: Literal["printed", "fitted"]
     errata: Errata
     grid: Grid
