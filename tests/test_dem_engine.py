@@ -245,6 +245,59 @@ def test_prescribed_velocity_drags_a_block_at_that_speed(tmp_path):
     np.testing.assert_allclose(h["ux_mm"] * 1e-3, 0.005 * h["time_s"], rtol=1e-9, atol=1e-12)
 
 
+def test_prescribed_velocity_waits_for_its_start_step(tmp_path):
+    """velocity.start_step: the block is held until that step, then moves at the velocity."""
+    scene = block_on_base(0.0, constant_joint(30.0), steps=2000, every=50)
+    scene["blocks"][1]["velocity"] = {"x_m_s": 0.005, "start_step": 500}
+    h = run_scene(tmp_path, scene).history
+    before, after = h[h["step"] <= 500], h[h["step"] > 500]
+    assert np.all(before["ux_mm"] == 0.0)
+    started = h.loc[h["step"] == 500, "time_s"].iloc[0]
+    np.testing.assert_allclose(after["ux_mm"] * 1e-3, 0.005 * (after["time_s"] - started), rtol=1e-9)
+
+
+def test_loads_act_from_their_start_step(tmp_path):
+    """A block force with start_step 600 (ramped over 200 steps): nothing moves before step 600, the
+    frictionless block slides after it."""
+    scene = block_on_base(0.0, constant_joint(0.0, k_MPa_per_mm=1.0), steps=1200, every=50, gravity=(0, 0))
+    scene["loads"] = {
+        "block_forces": [{"block": "slider", "force_kN": [1.0, 0.0], "ramp_steps": 200, "start_step": 600}]
+    }
+    h = run_scene(tmp_path, scene).history
+    assert np.all(h.loc[h["step"] <= 600, "ux_mm"] == 0.0)
+    assert h["ux_mm"].iloc[-1] > 0.0
+
+
+def test_equilibrium_stop_waits_until_every_load_acts_in_full(tmp_path):
+    """A slowly ramped load is in near balance all along its ramp: the equilibrium stop must not end
+    the run before the ramp is over."""
+    scene = block_on_base(0.0, constant_joint(30.0), steps=20_000, damping=0.8, gravity=(0, 0), every=50)
+    scene["loads"] = {
+        "edge_stresses": [
+            {"block": "slider", "edge": "up", "sigma_n_MPa": 1.0, "ramp_steps": 3000},
+            {"block": "slider", "edge": "up", "tau_MPa": 0.2, "ramp_steps": 2000, "start_step": 3000},
+        ]
+    }
+    scene["solver"]["stop"] = {"unbalanced_force_ratio": 1e-2}
+    result = run_scene(tmp_path, scene)
+    summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
+    assert summary["stopped_by_equilibrium"] == 1
+    assert 5000 <= summary["steps"] < 20_000
+
+
+def test_displacement_stop_ends_a_sliding_run(tmp_path):
+    """stop.displacement_m: a block sliding down a 40-degree, 20-degree-friction incline stops the
+    run once it has moved 5 mm, long before the step limit."""
+    scene = block_on_base(40.0, constant_joint(20.0), steps=50_000, every=10, gap_m=-1e-6)
+    scene["solver"]["stop"] = {"displacement_m": 0.005, "unbalanced_force_ratio": 1e-9}
+    result = run_scene(tmp_path, scene)
+    summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
+    assert summary["stopped_by_displacement"] == 1 and summary["stopped_by_equilibrium"] == 0
+    moved = np.hypot(result.history["ux_mm"].iloc[-1], result.history["uy_mm"].iloc[-1])
+    assert 5.0 < moved < 6.0
+    assert summary["steps"] < 50_000
+
+
 def test_engine_benchmark_reports_rates_and_growth():
     """The benchmark's table on two small walls: sizes as asked, finite rates, the growth columns."""
     table = engine_table([20, 80], sub_contacts=2, steps=20, repeats=1)

@@ -108,6 +108,7 @@ from bbmc.dem.layout import (
     VPW,
     VPX,
     VPY,
+    VSTART,
     VX,
     VY,
     XR,
@@ -243,11 +244,13 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, cos_
 
 
 @numba.njit(cache=True)
-def _ramp(step, ramp_steps):
-    """Load factor: linear from 1/ramp_steps at the first step to 1 at step ramp_steps, then 1."""
+def _ramp(step, ramp_steps, start_step):
+    """Load factor: 0 before start_step, then linear from 1/ramp_steps to 1 over ramp_steps, then 1."""
+    if step < start_step:
+        return 0.0
     if ramp_steps <= 0.0:
         return 1.0
-    return min(1.0, (step + 1.0) / ramp_steps)
+    return min(1.0, (step - start_step + 1.0) / ramp_steps)
 
 
 @numba.njit(cache=True)
@@ -256,7 +259,7 @@ def apply_loads(
 ):
     """Gravity (true mass), block forces [N, N m] and edge stresses [Pa] for this step.
 
-    An edge stress (sigma, tau, ramp) pushes on the edge with sigma (compression > 0) and drags along
+    An edge stress (sigma, tau, ramp, start) pushes on the edge with sigma (compression > 0) and drags along
     its counter-clockwise tangent with tau; it follows the edge as the block rotates, and acts at the
     edge's middle.
     """
@@ -266,7 +269,7 @@ def apply_loads(
         blocks[i, FM] = 0.0
     for k in range(load_block.shape[0]):
         i = load_block[k]
-        f = _ramp(step, block_loads[k, 3])
+        f = _ramp(step, block_loads[k, 3], block_loads[k, 4])
         blocks[i, FX] += f * block_loads[k, 0]
         blocks[i, FY] += f * block_loads[k, 1]
         blocks[i, FM] += f * block_loads[k, 2]
@@ -274,7 +277,7 @@ def apply_loads(
         e = load_edge[k]
         i = vertex_block[e]
         x0, y0, tx, ty, length = edge_frame(world, vertex_next, e)
-        f = _ramp(step, edge_loads[k, 2]) * length
+        f = _ramp(step, edge_loads[k, 2], edge_loads[k, 3]) * length
         fx = f * (-edge_loads[k, 0] * ty + edge_loads[k, 1] * tx)
         fy = f * (edge_loads[k, 0] * tx + edge_loads[k, 1] * ty)
         rx, ry = x0 + 0.5 * length * tx - blocks[i, X], y0 + 0.5 * length * ty - blocks[i, Y]
@@ -294,9 +297,9 @@ def _advance(force, velocity, mass, damping, dt):
 
 
 @numba.njit(cache=True)
-def move_blocks(blocks, dof, damping, dt):
+def move_blocks(blocks, dof, damping, dt, step):
     """New velocities and positions; returns the largest movement since the last contact search [m]
-    (translation plus radius times rotation)."""
+    (translation plus radius times rotation). Prescribed dofs are held until their start step."""
     largest = 0.0
     for i in range(blocks.shape[0]):
         for d, v, f, m, vp, pv in (
@@ -306,7 +309,7 @@ def move_blocks(blocks, dof, damping, dt):
         ):
             blocks[i, pv] = blocks[i, v]
             if dof[i, d] == PRESCRIBED:
-                blocks[i, v] = blocks[i, vp]
+                blocks[i, v] = blocks[i, vp] if step >= blocks[i, VSTART] else 0.0
             else:
                 blocks[i, v] = _advance(blocks[i, f], blocks[i, v], blocks[i, m], damping, dt)
         blocks[i, X] += blocks[i, VX] * dt
@@ -527,7 +530,7 @@ def cycle(
             clock[STEP],
         )
         contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, cos_tolerance, dt)
-        moved = move_blocks(blocks, dof, damping, dt)
+        moved = move_blocks(blocks, dof, damping, dt, clock[STEP])
         update_vertices(blocks, vertex_block, local, world)
         clock[STEP] += 1.0
         clock[TIME] += dt

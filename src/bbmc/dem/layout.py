@@ -19,7 +19,8 @@ RADIUS = 19  # largest distance from the centroid to a vertex [m]
 SIZE = 20  # sqrt(area): the block size against which interpenetration is judged [m]
 VPX, VPY, VPW = 21, 22, 23  # prescribed velocity of the prescribed degrees of freedom
 PVX, PVY, PW = 24, 25, 26  # velocity of the half step before (energies are read at full steps)
-BLOCK_COLUMNS = 27
+VSTART = 27  # step from which the prescribed velocity applies (before it, prescribed dofs are held)
+BLOCK_COLUMNS = 28
 
 # --- block degrees of freedom: int64 (n_blocks, 3), one code per x, y, rotation ---------------------
 FREE, PRESCRIBED = 0, 1  # a fixed degree of freedom is one prescribed at zero velocity

@@ -74,6 +74,12 @@ class Model:
     def variable_laws(self) -> bool:
         return bool(np.any(self.laws[:, :3] != 0))
 
+    @property
+    def loads_applied_step(self) -> int:
+        """The step from which every load acts in full (the end of the last ramp)."""
+        ends = [row[-2] + row[-1] for row in (*self.block_loads, *self.edge_loads)]
+        return int(max(ends, default=0))
+
 
 def _error(path: Path, key: str, message: str) -> ConfigError:
     return ConfigError(f"{path}: key '{key}': {message}")
@@ -206,7 +212,8 @@ def build_model(scene: Scene, path: Path) -> Model:
             if value is not None:
                 dof[i, d] = L.PRESCRIBED
                 blocks[i, L.VPX + d] = value
-                blocks[i, L.VX + d] = value
+                blocks[i, L.VX + d] = value if velocity.start_step == 0 else 0.0
+        blocks[i, L.VSTART] = velocity.start_step if velocity else 0
 
     law_names = list(scene.joint_laws)
     rows = [_joint_law_row(law) for law in scene.joint_laws.values()]
@@ -231,7 +238,7 @@ def build_model(scene: Scene, path: Path) -> Model:
         if rule.dip_deg:
             rule_dip[r] = np.array(rule.dip_deg) * units.deg
 
-    block_loads = np.zeros((len(scene.loads.block_forces), 4))
+    block_loads = np.zeros((len(scene.loads.block_forces), 5))
     load_block = np.zeros(len(scene.loads.block_forces), dtype=np.int64)
     for k, load in enumerate(scene.loads.block_forces):
         load_block[k] = _block_index(seen, load.block, path, f"loads.block_forces.{k}.block")
@@ -240,14 +247,20 @@ def build_model(scene: Scene, path: Path) -> Model:
             load.force_kN[1] * 1e3 / scene.thickness_m,
             load.moment_kN_m * 1e3 / scene.thickness_m,
             load.ramp_steps,
+            load.start_step,
         ]
-    edge_loads = np.zeros((len(scene.loads.edge_stresses), 3))
+    edge_loads = np.zeros((len(scene.loads.edge_stresses), 4))
     load_edge = np.zeros(len(scene.loads.edge_stresses), dtype=np.int64)
     for k, load in enumerate(scene.loads.edge_stresses):
         key = f"loads.edge_stresses.{k}"
         b = _block_index(seen, load.block, path, f"{key}.block")
         load_edge[k] = vertex_start[b] + _edge_index(shapes[b], load.edge, path, f"{key}.edge")
-        edge_loads[k] = [load.sigma_n_MPa * units.MPa, load.tau_MPa * units.MPa, load.ramp_steps]
+        edge_loads[k] = [
+            load.sigma_n_MPa * units.MPa,
+            load.tau_MPa * units.MPa,
+            load.ramp_steps,
+            load.start_step,
+        ]
 
     sizes = blocks[:, L.SIZE]
     margin = contacts.search_margin_m or 0.02 * float(np.median(sizes))

@@ -56,6 +56,7 @@ class Velocity(Section):
     x_m_s: float | None = None
     y_m_s: float | None = None
     rotation_rad_s: float | None = None
+    start_step: Steps = 0  # the velocity applies from this step; before it these dofs are held
 
 
 class BlockEntry(Section):
@@ -182,6 +183,7 @@ class EdgeStress(Section):
     sigma_n_MPa: float = 0.0
     tau_MPa: float = 0.0
     ramp_steps: Steps = 0
+    start_step: Steps = 0  # the load acts from this step on (ramped over ramp_steps from there)
 
 
 class BlockForce(Section):
@@ -189,6 +191,7 @@ class BlockForce(Section):
     force_kN: Pair = Field(default_factory=lambda: [0.0, 0.0])  # total over the thickness, at the centroid
     moment_kN_m: float = 0.0
     ramp_steps: Steps = 0
+    start_step: Steps = 0
 
 
 class Loads(Section):
@@ -212,7 +215,18 @@ class TimeStep(Section):
 
 
 class Stop(Section):
-    unbalanced_force_ratio: Positive  # stop once max unbalanced force / max applied force is below
+    """Stop once the loads act in full and the unbalanced force ratio (max unbalanced force / max
+    applied force) is below `unbalanced_force_ratio`, or once a free block has moved further than
+    `displacement_m` from where it started; whichever comes first."""
+
+    unbalanced_force_ratio: Positive | None = None
+    displacement_m: Positive | None = None
+
+    @model_validator(mode="after")
+    def _one_given(self) -> Stop:
+        if self.unbalanced_force_ratio is None and self.displacement_m is None:
+            raise ValueError("give unbalanced_force_ratio and/or displacement_m")
+        return self
 
 
 class Solver(Section):

@@ -321,25 +321,47 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
     reference = mon.reference_force(model)
     every = model.scene.monitoring.every_steps
     records = [_record(model, state, reference)]
-    stopped_early = False
-    while state.step < solver.steps:
+    stopped_by = ""
+    while state.step < solver.steps and not stopped_by:
         chunk = min(every - state.step % every, solver.steps - state.step)
         advance(model, state, chunk)
         if progress:
             progress(chunk)
         _check_overlap(model, state, warnings)
         records.append(_record(model, state, reference))
-        if solver.stop and mon.unbalanced_force_ratio(state, reference) < solver.stop.unbalanced_force_ratio:
-            stopped_early = True
-            break
+        stopped_by = _stop_reason(model, state, reference)
     return RunResult(
         history=pd.DataFrame(records),
         blocks=mon.block_table(model, state.blocks),
         contacts=mon.contact_table(model, state.contacts, state.subs, state.n_sub),
-        summary=_summary(model, state, stopped_early, warnings),
+        summary=_summary(model, state, stopped_by, warnings),
         warnings=warnings,
         state=state,
     )
+
+
+STOP_REASONS = ("equilibrium", "displacement")
+
+
+def _stop_reason(model: Model, state: State, reference: float) -> str:
+    """Which stop condition holds now ("" for none); equilibrium counts only once the loads act in
+    full, since a slowly ramped load is in near balance all along its ramp."""
+    stop = model.scene.solver.stop
+    if stop is None:
+        return ""
+    if stop.displacement_m is not None:
+        free = np.any(state.dof[:, :2] == L.FREE, axis=1)
+        b = state.blocks[free]
+        moved = np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0])
+        if np.max(moved, initial=0.0) > stop.displacement_m:
+            return "displacement"
+    if (
+        stop.unbalanced_force_ratio is not None
+        and state.step >= model.loads_applied_step
+        and mon.unbalanced_force_ratio(state, reference) < stop.unbalanced_force_ratio
+    ):
+        return "equilibrium"
+    return ""
 
 
 def _record(model: Model, state: State, reference: float) -> dict[str, float]:
@@ -349,11 +371,11 @@ def _record(model: Model, state: State, reference: float) -> dict[str, float]:
     return row
 
 
-def _summary(model: Model, state: State, stopped_early: bool, warnings: list[str]) -> pd.DataFrame:
+def _summary(model: Model, state: State, stopped_by: str, warnings: list[str]) -> pd.DataFrame:
     rows = [
         ("steps", state.step, "1"),
         ("time", state.clock[L.TIME], "s"),
-        ("stopped_by_condition", int(stopped_early), "1"),
+        *((f"stopped_by_{reason}", int(stopped_by == reason), "1") for reason in STOP_REASONS),
         ("time_step_min", state.dt_range[0], "s"),
         ("time_step_max", state.dt_range[1], "s"),
         ("contact_searches", state.searches, "1"),
