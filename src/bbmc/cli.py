@@ -24,6 +24,7 @@ from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
 from bbmc.stages import mc as mc_stage
 from bbmc.stages import run as run_stage
+from bbmc.stages import shear as shear_stage
 
 
 @contextmanager
@@ -106,6 +107,7 @@ def main() -> None:
     Example (the whole pipeline is `make reproduce`):
       bbmc fit --config configs/fit.yaml
       bbmc mc  --config configs/mc.yaml
+      bbmc shear --config configs/shear.yaml
       bbmc run --config configs/scenes/incline.yaml
     """
 
@@ -189,3 +191,38 @@ def run_command(config: str | None, results: str) -> None:
         out_dir = Path(results) / run_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(run_stage.NAME, config_path, scene))
     _report_written(run_stage.NAME, out_dir, written)
+
+
+@main.command(name="shear")
+@_stage_options
+@click.option(
+    "--quick", is_flag=True, help="A first look: the config's `quick` settings, into <results>/shear-quick/."
+)
+def shear_command(config: str | None, results: str, quick: bool) -> None:
+    """The paper's shear tests (Table 3, Figs 4 and 6) on the block engine, and its calibration of eq 16.
+
+    \b
+    Example:
+      bbmc shear --config configs/shear.yaml
+    writes results/shear/table3_shear.csv (Table 3 beside ours, cell by cell, with verdicts),
+    stress_tests.csv (every load and law against the closed form), velocity_curves.csv,
+    velocity_peaks.csv, test_curves.csv, calibration.csv (a, b, R^2 beside eq 16's),
+    calibration_tests.csv, fig4.png, fig6.png, calibration.png, scenes/*.yaml (every scene run;
+    each runs with bbmc run), provenance.json
+    """
+    config_path = Path(config) if config else Path("configs") / "shear.yaml"
+    name = "shear-quick" if quick else shear_stage.NAME
+    with _reported(name):
+        settings = load_config(config_path, shear_stage.Config)
+        if quick:
+            settings = shear_stage.quick_config(settings)
+        started = time.perf_counter()
+
+        def progress(step: str) -> None:
+            if time.perf_counter() - started > 2.0:
+                click.echo(f"bbmc {name}: {step}", err=True)
+
+        result = shear_stage.run(settings, progress)
+        out_dir = Path(results) / name
+        written = write_stage(out_dir, result, provenance(name, config_path, settings) | {"quick": quick})
+    _report_written(name, out_dir, [p for p in written if "scenes/" not in str(p)])

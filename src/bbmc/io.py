@@ -53,10 +53,12 @@ def read_table(path: Path, columns: Mapping[str, RowCheck]) -> pd.DataFrame:
 
 @dataclass
 class StageResult:
-    """What a stage produces: CSV tables and figures, by file name without extension."""
+    """What a stage produces: CSV tables and figures by file name without extension, and other files
+    (e.g. the scenes a stage ran) by relative path with extension."""
 
     tables: dict[str, pd.DataFrame] = field(default_factory=dict)
     figures: dict[str, Figure] = field(default_factory=dict)
+    files: dict[str, str | bytes] = field(default_factory=dict)
 
 
 def _versions() -> dict[str, str]:
@@ -120,8 +122,15 @@ def write_stage(out_dir: Path, result: StageResult, record: Mapping[str, object]
             table.to_csv(staging / f"{name}.csv", index=False)
         for name, figure in result.figures.items():
             figure.savefig(staging / f"{name}.png", dpi=figure.dpi, metadata={"Software": None})
+        for name, content in result.files.items():
+            target = staging / name
+            target.parent.mkdir(parents=True, exist_ok=True)
+            if isinstance(content, bytes):
+                target.write_bytes(content)
+            else:
+                target.write_text(content)
         (staging / "provenance.json").write_text(json.dumps(record, indent=2) + "\n")
-        written = sorted(p.name for p in staging.iterdir())
+        written = sorted(str(p.relative_to(staging)) for p in staging.rglob("*") if p.is_file())
         if out_dir.exists():
             retired = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old.", dir=out_dir.parent))
             out_dir.rename(retired / out_dir.name)

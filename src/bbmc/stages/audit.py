@@ -34,7 +34,7 @@ class Config(Section):
 def _inputs(config: Config) -> checks.AuditInputs:
     fit_config = load_config(config.fit_config, fit.Config)
     mc_config = load_config(config.mc_config, mc.Config)
-    fit_inputs, mc_inputs = fit.load_inputs(fit_config), mc.load_inputs(mc_config)
+    fit_inputs, mc_inputs = fit.load_inputs(fit_config), mc.load_inputs(mc_config.data)
     d = config.data
     paper_fits = read_table(d.table1_fits, {"a": ANY, "b": ANY, "correlation_coefficient": POSITIVE})
     table2 = read_table(d.table2, {"cohesion_MPa": POSITIVE, "compressive_strength_MPa": POSITIVE})

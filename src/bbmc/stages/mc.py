@@ -8,7 +8,7 @@ reading, are in `bbmc.joint_model` and docs/paper-audit.md.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Literal, Protocol
 
 import numpy as np
 import pandas as pd
@@ -20,6 +20,7 @@ from bbmc.config import InputFile, Section
 from bbmc.io import ANY, POSITIVE, StageResult, read_table
 
 NAME = "mc"
+Coefficients = Literal["printed", "fitted"]  # eq 4's coefficients: as printed, or our Table 1 fits
 
 
 class Inputs(Section):
@@ -50,7 +51,7 @@ class Grid(Section):
 class Config(Section):
     data: Inputs
     joint: jm.BartonBandisJoint
-    stiffness_coefficients: Literal["printed", "fitted"]
+    stiffness_coefficients: Coefficients
     errata: Errata
     grid: Grid
     tangent_stresses_MPa: list[float] = Field(min_length=1, max_length=12)
@@ -63,20 +64,28 @@ class Config(Section):
         return self
 
 
-def load_inputs(config: Config) -> dict[str, pd.DataFrame]:
+class JointModelConfig(Protocol):
+    """What `parameters` reads from a config (the mc and shear stages share it)."""
+
+    joint: jm.BartonBandisJoint
+    stiffness_coefficients: Coefficients
+    errata: Errata
+
+
+def load_inputs(data: Inputs) -> dict[str, pd.DataFrame]:
     """Table 1 (for fitted coefficients), Table 3's loads and the printed constants, checked."""
     return {
         "table1": read_table(
-            config.data.table1,
+            data.table1,
             {c: POSITIVE for c in ["sigma_n_MPa", "tau_p_MPa", "K_si_GPa_per_m", "tau_ult_MPa"]},
         ),
-        "table3": read_table(config.data.table3, {"sigma_n_MPa": POSITIVE, "tau_MPa": POSITIVE}),
-        "constants": read_table(config.data.equation_constants, {"equation": POSITIVE, "value": ANY}),
+        "table3": read_table(data.table3, {"sigma_n_MPa": POSITIVE, "tau_MPa": POSITIVE}),
+        "constants": read_table(data.equation_constants, {"equation": POSITIVE, "value": ANY}),
     }
 
 
 def parameters(
-    config: Config, inputs: dict[str, pd.DataFrame]
+    config: JointModelConfig, inputs: dict[str, pd.DataFrame]
 ) -> tuple[jm.StrengthParameters, jm.StiffnessParameters]:
     """The SI parameter sets this config asks for."""
     printed = jm.printed_constants(inputs["constants"])
@@ -152,7 +161,7 @@ def stiffness_curves(sigma_n_MPa: np.ndarray, stiffness: jm.StiffnessParameters,
 
 def run(config: Config) -> StageResult:
     """Evaluate the laws on the grid, at Table 3's loads and at the tangent stresses; draw."""
-    inputs = load_inputs(config)
+    inputs = load_inputs(config.data)
     strength, stiffness = parameters(config, inputs)
     g = config.grid
     sigma_grid = np.geomspace(g.sigma_n_min_MPa, g.sigma_n_max_MPa, g.points) * units.MPa

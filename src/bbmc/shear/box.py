@@ -1,0 +1,294 @@
+"""The direct shear box of the paper's section 4 (Figs 3 and 5) as a block scene, and its two tests.
+
+Geometry (plane strain, per metre of thickness; the paper's 60 mm x 60 mm x 120 mm specimen seen
+from the side): two rigid halves of `length_mm` x `height_mm`/2, the joint between them at half height
+with its middle at the origin. The lower half is fixed; the upper half is free in x and y, its rotation
+held by the box's frame. Gravity is off, so the joint's normal stress is the applied one. The lower
+half is `lower_extension_mm` longer at each end than the upper, so the contact keeps the upper half's
+full length while it shears (the paper's tau is nominal: force over the specimen's area). The halves
+are rigid: at the paper's stresses the limestone of Table 2 (G = 1.92 GPa) would add
+tau h / (2 G) < 0.003 mm to d_h.
+
+* Stress-controlled test (Fig 3): sigma_n ramped onto the top over `normal_ramp_steps`, then tau ramped
+  from `shear_start_step` over `shear_ramp_steps`, slowly enough to be quasi-static; the run ends at
+  equilibrium (`equilibrium_ratio`), when the upper half has moved `slide_limit_mm`, or at `max_steps`.
+* Constant-velocity test (Fig 5): sigma_n as above, then the upper half is driven along the joint at
+  `velocity_m_s` until it has moved `shear_displacement_mm`.
+
+d_h is the shear displacement of the sub-contact nearest the joint's middle point, the paper's
+monitored point (0, 0, 0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Literal
+
+import numpy as np
+import pandas as pd
+from pydantic import Field
+
+from bbmc import joint_model as jm
+from bbmc import laws, units
+from bbmc.config import Section
+from bbmc.dem.layout import SLIPPED
+from bbmc.dem.model import build_model
+from bbmc.dem.scene import Scene
+from bbmc.dem.solver import simulate
+
+Positive = Annotated[float, Field(gt=0)]
+Steps = Annotated[int, Field(ge=1)]
+ShearLaw = Literal["uncorrected", "corrected", "simplified"]
+SHEAR_LAWS: tuple[ShearLaw, ...] = ("uncorrected", "corrected", "simplified")
+STATUSES = ("holds", "slides", "runs off", "not settled")
+
+
+class Specimen(Section):
+    length_mm: Positive = 60.0  # along the shear direction
+    height_mm: Positive = 120.0  # the joint at half height
+    lower_extension_mm: Annotated[float, Field(ge=0)] = 30.0  # at each end of the lower half
+    sub_contacts_per_edge: Annotated[int, Field(ge=1, le=64)] = 4
+
+
+class JointOptions(Section):
+    """The engine's documented rules where the laws give 0, and what slip does to eq 15's c."""
+
+    stress_floor_MPa: Positive = 0.01
+    shear_stiffness_floor: Annotated[float, Field(ge=0, le=1)] = 0.001  # K_s >= floor x K_si
+    after_slip: Literal["zero", "keep"] = "keep"  # eq 15's c is the tangent's intercept, not a bond
+
+
+class StressControlled(Section):
+    normal_ramp_steps: Steps = 1000
+    shear_start_step: Steps = 1500
+    shear_ramp_steps: Steps = 20_000
+    max_steps: Steps = 80_000
+    equilibrium_ratio: Positive = 1e-6
+    slide_limit_mm: Positive = 25.0
+    update_interval_steps: Steps = 50
+    record_every_steps: Steps = 20
+
+
+class ConstantVelocity(Section):
+    velocity_m_s: Positive = 0.005
+    shear_displacement_mm: Positive = 20.0
+    normal_ramp_steps: Steps = 1000
+    shear_start_step: Steps = 1500
+    update_interval_steps: Steps = 50
+    record_every_steps: Steps = 50
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """A stress-controlled test: d_h [m] (inf unless it holds), how it ended, and the joint's K_s at
+    the end [Pa/m] (the tangent stiffness at the load, once it holds)."""
+
+    d_h: float
+    status: str
+    steps: int
+    final_ks: float
+
+
+def shear_stiffness_law(
+    kind: ShearLaw, sigma_n: float, p: jm.StiffnessParameters, correction: tuple[float, float] | None = None
+) -> dict:
+    """The scene's shear_stiffness entry of one law, in the scene's units.
+
+    uncorrected: eq 3/4 (or eq 2 where `p.form` is corrected); corrected: eq 16 with (a, b) =
+    `correction`, else the paper's; simplified: eq 17, D K_j sigma_n^n_j, with eq 18's printed 0.1164
+    or D from eq 16 at tau = tau_p at this sigma_n (`p.simplified`).
+    """
+    fits = {
+        "kj_MPa_per_mm": p.k_j / units.MPa_per_mm,
+        "nj": p.n_j,
+        "peak_strength": {"slope": p.tau_p_slope, "intercept_MPa": p.tau_p_intercept / units.MPa},
+        "ultimate_strength": {"slope": p.tau_ult_slope, "intercept_MPa": p.tau_ult_intercept / units.MPa},
+    }
+    if kind == "uncorrected":
+        return {"law": "bandis" if p.form == "paper" else "hyperbolic", **fits}
+    if kind == "corrected":
+        a, b = correction if correction is not None else (p.correction_a, p.correction_b)
+        return {"law": "corrected", **fits, "a": float(a), "b": float(b)}
+    if p.simplified == "paper":
+        return {
+            "law": "simplified",
+            "kj_MPa_per_mm": p.eq18_k_j / units.MPa_per_mm,
+            "nj": p.eq18_n_j,
+            "d": 1.0,
+        }
+    tau_p, tau_ult = jm.fitted_strengths(np.array(sigma_n), p)
+    d = float(laws.peak_reduction_factor(tau_p, tau_ult, p.correction_b))
+    return {"law": "simplified", "kj_MPa_per_mm": fits["kj_MPa_per_mm"], "nj": p.n_j, "d": d}
+
+
+def joint_law(
+    shear: dict, strength: jm.StrengthParameters, p: jm.StiffnessParameters, options: JointOptions
+) -> dict:
+    """A barton_bandis joint-law entry: eq 15 strength, eq 8 K_n, the given shear law."""
+    return {
+        "law": "barton_bandis",
+        "strength": {
+            "jrc": strength.jrc,
+            "jcs_MPa": strength.jcs / units.MPa,
+            "phi_b_deg": strength.phi_b / units.deg,
+            "phi_max_deg": strength.phi_max / units.deg,
+            "tangent_coefficient": strength.k,
+        },
+        "normal_stiffness": {"law": "eq8", "q_per_mm": p.q / units.per_mm, "lg_e": p.log10_e},
+        "shear_stiffness": shear,
+        "stress_floor_MPa": options.stress_floor_MPa,
+        "shear_stiffness_floor": options.shear_stiffness_floor,
+        "after_slip": options.after_slip,
+    }
+
+
+def _blocks(specimen: Specimen, density: float, upper_velocity: dict | None) -> tuple[dict, list[dict]]:
+    length, half = specimen.length_mm * 1e-3, specimen.height_mm * 0.5e-3
+    extension = specimen.lower_extension_mm * 1e-3
+    upper = {
+        "name": "upper",
+        "material": "limestone",
+        "rectangle_m": {"x_m": -length / 2, "y_m": 0.0, "width_m": length, "height_m": half},
+        "fix": ["rotation"],
+    }
+    if upper_velocity:
+        upper["velocity"] = upper_velocity
+    lower = {
+        "name": "lower",
+        "material": "limestone",
+        "rectangle_m": {
+            "x_m": -length / 2 - extension,
+            "y_m": -half,
+            "width_m": length + 2 * extension,
+            "height_m": half,
+        },
+        "fix": ["x", "y", "rotation"],
+    }
+    return {"limestone": {"density_kg_m3": density}}, [lower, upper]
+
+
+def _monitors(every: int) -> dict:
+    joint = [
+        {"name": name, "near_m": [0.0, 0.0], "quantity": quantity}
+        for name, quantity in (("d_h", "us"), ("tau", "tau"), ("sigma_n", "sigma_n"), ("ks", "ks"))
+    ]
+    return {"every_steps": every, "monitors": [*joint, {"name": "uy", "block": "upper", "quantity": "uy"}]}
+
+
+def stress_controlled_scene(
+    name: str,
+    specimen: Specimen,
+    run: StressControlled,
+    density: float,
+    law: dict,
+    sigma_n: float,
+    tau: float,
+) -> dict:
+    """The scene of one stress-controlled test (stresses in Pa); tau drags the upper half towards +x."""
+    materials, blocks = _blocks(specimen, density, None)
+    return {
+        "name": name,
+        "gravity_m_s2": [0.0, 0.0],
+        "materials": materials,
+        "blocks": blocks,
+        "joint_laws": {"joint": law},
+        "contacts": {"default_law": "joint", "sub_contacts_per_edge": specimen.sub_contacts_per_edge},
+        "loads": {
+            "edge_stresses": [
+                {
+                    "block": "upper",
+                    "edge": "up",
+                    "sigma_n_MPa": float(sigma_n / units.MPa),
+                    "ramp_steps": run.normal_ramp_steps,
+                },
+                {
+                    "block": "upper",
+                    "edge": "up",
+                    "tau_MPa": float(-tau / units.MPa),  # the top edge's counter-clockwise tangent is -x
+                    "ramp_steps": run.shear_ramp_steps,
+                    "start_step": run.shear_start_step,
+                },
+            ]
+        },
+        "solver": {
+            "steps": run.max_steps,
+            "update_interval_steps": run.update_interval_steps,
+            "stop": {
+                "unbalanced_force_ratio": run.equilibrium_ratio,
+                "displacement_m": run.slide_limit_mm * 1e-3,
+            },
+        },
+        "monitoring": _monitors(run.record_every_steps),
+    }
+
+
+def constant_velocity_scene(
+    name: str, specimen: Specimen, run: ConstantVelocity, density: float, law: dict, sigma_n: float
+) -> dict:
+    """The scene of one constant-velocity test (sigma_n in Pa)."""
+    velocity = {"x_m_s": run.velocity_m_s, "start_step": run.shear_start_step}
+    materials, blocks = _blocks(specimen, density, velocity)
+    return {
+        "name": name,
+        "gravity_m_s2": [0.0, 0.0],
+        "materials": materials,
+        "blocks": blocks,
+        "joint_laws": {"joint": law},
+        "contacts": {"default_law": "joint", "sub_contacts_per_edge": specimen.sub_contacts_per_edge},
+        "loads": {
+            "edge_stresses": [
+                {
+                    "block": "upper",
+                    "edge": "up",
+                    "sigma_n_MPa": float(sigma_n / units.MPa),
+                    "ramp_steps": run.normal_ramp_steps,
+                }
+            ]
+        },
+        "solver": {
+            "steps": 10**9,
+            "update_interval_steps": run.update_interval_steps,
+            "stop": {"displacement_m": run.shear_displacement_mm * 1e-3},
+        },
+        "monitoring": _monitors(run.record_every_steps),
+    }
+
+
+def _simulate(scene: dict):
+    model = build_model(Scene.model_validate(scene), Path(f"<{scene['name']}>"))
+    return simulate(model)
+
+
+def run_stress_controlled(scene: dict) -> Outcome:
+    """Run a stress-controlled test and classify how it ended (see `STATUSES`)."""
+    result = _simulate(scene)
+    summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
+    h = result.history
+    slipped = bool(np.any(result.state.subs[:, SLIPPED] > 0))
+    if summary["stopped_by_equilibrium"]:
+        status = "holds"
+    elif summary["stopped_by_displacement"]:
+        status = "slides" if slipped else "runs off"
+    else:
+        status = "not settled"
+    d_h = abs(float(h["d_h_mm"].iloc[-1])) * units.mm if status == "holds" else math.inf
+    final_ks = abs(float(h["ks_MPa_per_mm"].iloc[-1])) * units.MPa_per_mm
+    return Outcome(d_h=d_h, status=status, steps=int(summary["steps"]), final_ks=final_ks)
+
+
+def run_constant_velocity(scene: dict) -> pd.DataFrame:
+    """The tau-d_h curve of a constant-velocity test from the start of shearing: d_h [mm], tau, sigma_n
+    [MPa], time [s] since shearing began."""
+    h = _simulate(scene).history
+    start = scene["blocks"][1]["velocity"]["start_step"]
+    h = h[h["step"] >= start]
+    return pd.DataFrame(
+        {
+            "time_s": h["time_s"].to_numpy() - h["time_s"].iloc[0],
+            "d_h_mm": np.abs(h["d_h_mm"].to_numpy()),
+            "tau_MPa": np.abs(h["tau_MPa"].to_numpy()),
+            "sigma_n_MPa": h["sigma_n_MPa"].to_numpy(),
+        }
+    )

@@ -1,0 +1,416 @@
+"""`bbmc shear`: the paper's direct shear tests (section 4, Table 3, Figs 3-6) on the block engine.
+
+Three parts, all on the shear box of `bbmc.shear.box`:
+
+* Stress-controlled tests at every load of Table 3 with the uncorrected (eq 4), corrected (eq 16) and
+  simplified (eq 17) shear stiffness; strength from eq 15, K_n from eq 8. Beside each engine d_h is
+  the closed form the engine must match, the integral of d tau / K_st(tau) from 0 to the load.
+* Constant-velocity tests (Fig 5) at the four normal stresses with each law: the tau-d_h curves of
+  Fig 6, beside the test curves that `bbmc fit` reconstructs for Fig 1.
+* The calibration of eq 16 (`bbmc.shear.calibration`) on the laboratory d_h of Table 3.
+
+Only the loads, the test d_h (calibration targets) and the fitted coefficients the paper gives as
+inputs are read from data/paper; the printed numerical d_h and stiffnesses are read only to compare.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pandas as pd
+import yaml
+from pydantic import Field
+from scipy.integrate import quad
+
+from bbmc import joint_model as jm
+from bbmc import units
+from bbmc.comparison import TOLERANCES, judge
+from bbmc.config import InputFile, Section
+from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.shear import box
+from bbmc.shear import calibration as cal
+from bbmc.shear.figures import calibration_figure, fig4, fig6
+from bbmc.stages import fit as fit_stage
+from bbmc.stages import mc as mc_stage
+
+NAME = "shear"
+PAPER_COLUMNS = {"uncorrected": "d_h_numerical_uncorrected_mm", "corrected": "d_h_numerical_corrected_mm"}
+PAPER_STIFFNESS = {"uncorrected": "K_st_uncorrected_MPa_per_mm", "corrected": "K_st_corrected_MPa_per_mm"}
+PEAK_FRACTION = 0.999  # a curve's peak is where tau first reaches this fraction of its largest value
+LAW_KEYS = {"uncorrected": "K_st_uncorrected", "corrected": "K_st_corrected", "simplified": "K_st_simplified"}
+
+
+class Inputs(mc_stage.Inputs):
+    table2: InputFile
+    fig2a_legends: InputFile  # for the test curves of Fig 1, drawn beside Fig 6
+
+
+class FitSet(Section):
+    name: str = Field(min_length=1)
+    sigma_n_MPa: list[float] | None = None  # the loads at these normal stresses; none: every load
+
+
+class CalibrationSettings(Section):
+    fit_sets: list[FitSet] = Field(min_length=1)
+    tolerance_log_k: float = Field(gt=0, le=1e-3)
+
+
+class Quick(Section):
+    """What `--quick` changes: a faster shear ramp, and coarser curves."""
+
+    shear_ramp_steps: int = Field(ge=1)
+    velocity_record_every_steps: int = Field(ge=1)
+
+
+class Config(Section):
+    data: Inputs
+    joint: jm.BartonBandisJoint
+    stiffness_coefficients: mc_stage.Coefficients
+    errata: mc_stage.Errata
+    specimen: box.Specimen
+    joint_options: box.JointOptions
+    stress_controlled: box.StressControlled
+    constant_velocity: box.ConstantVelocity
+    calibration: CalibrationSettings
+    fig2a_units: fit_stage.Fig2aUnits
+    quick: Quick
+    figure_dpi: int = Field(ge=50, le=600)
+
+
+def quick_config(config: Config) -> Config:
+    """The config `--quick` runs: the shear ramp and the curve records from `quick`."""
+    stress = config.stress_controlled.model_copy(update={"shear_ramp_steps": config.quick.shear_ramp_steps})
+    velocity = config.constant_velocity.model_copy(
+        update={"record_every_steps": config.quick.velocity_record_every_steps}
+    )
+    return config.model_copy(update={"stress_controlled": stress, "constant_velocity": velocity})
+
+
+def load_inputs(config: Config) -> dict[str, pd.DataFrame]:
+    inputs = mc_stage.load_inputs(config.data)
+    inputs["table2"] = read_table(config.data.table2, {"density_kg_per_m3": POSITIVE})
+    inputs["table3"] = read_table(
+        config.data.table3,
+        {
+            "sigma_n_MPa": POSITIVE,
+            "tau_MPa": POSITIVE,
+            "d_h_test_mm": POSITIVE,
+            "d_h_numerical_uncorrected_mm": POSITIVE,
+            "d_h_numerical_corrected_mm": POSITIVE,
+            "K_st_uncorrected_MPa_per_mm": ANY,
+            "K_st_corrected_MPa_per_mm": POSITIVE,
+            "Phi_deg": ANY,
+            "C_kPa": ANY,
+        },
+    )
+    inputs["legends"] = read_table(
+        config.data.fig2a_legends, {"sigma_n_kPa": POSITIVE, "slope_a": ANY, "intercept_b": ANY}
+    )
+    return inputs
+
+
+class Bench:
+    """The shear box with this config's parameters: builds and runs the tests."""
+
+    def __init__(self, config: Config, inputs: dict[str, pd.DataFrame]) -> None:
+        self.config = config
+        self.strength, self.stiffness = mc_stage.parameters(config, inputs)
+        self.density = float(inputs["table2"]["density_kg_per_m3"].iloc[0])
+        self.scenes: dict[str, str] = {}
+
+    def law(self, kind: box.ShearLaw, sigma_n: float, shear: dict | None = None) -> dict:
+        shear = shear or box.shear_stiffness_law(kind, sigma_n, self.stiffness)
+        return box.joint_law(shear, self.strength, self.stiffness, self.config.joint_options)
+
+    def stress_test(self, name: str, law: dict, sigma_n: float, tau: float, keep: bool = True) -> box.Outcome:
+        c = self.config
+        scene = box.stress_controlled_scene(
+            name, c.specimen, c.stress_controlled, self.density, law, sigma_n, tau
+        )
+        if keep:
+            self.scenes[f"scenes/{name}.yaml"] = yaml.safe_dump(scene, sort_keys=False)
+        return box.run_stress_controlled(scene)
+
+    def velocity_test(self, name: str, law: dict, sigma_n: float) -> pd.DataFrame:
+        c = self.config
+        scene = box.constant_velocity_scene(name, c.specimen, c.constant_velocity, self.density, law, sigma_n)
+        self.scenes[f"scenes/{name}.yaml"] = yaml.safe_dump(scene, sort_keys=False)
+        return box.run_constant_velocity(scene)
+
+
+def _label(sigma_n: float, tau: float | None, law: str) -> str:
+    load = f"{sigma_n / units.MPa:g}MPa" + (f"_{tau / units.MPa:g}MPa" if tau is not None else "")
+    return f"{law}_{load}".replace(".", "p")
+
+
+def closed_form_displacement(bench: Bench, kind: box.ShearLaw, sigma_n: float, tau: float) -> float:
+    """d_h [m] of a joint that holds: the integral of d tau / K_st from 0 to tau, K_st floored as in
+    the engine (a fraction of K_si); inf where K_st is 0 somewhere on the way."""
+    floor = bench.config.joint_options.shear_stiffness_floor
+
+    def compliance(t: float) -> float:
+        state = jm.stiffness_state(np.array([sigma_n]), np.array([t]), bench.stiffness)
+        k = max(float(state[LAW_KEYS[kind]][0]), floor * float(state["K_si"][0]))
+        return 1.0 / k if k > 0 else math.inf
+
+    if kind == "simplified":
+        return tau * compliance(tau)
+    value, _ = quad(compliance, 0.0, tau, limit=400, epsabs=0.0, epsrel=1e-10)
+    return value
+
+
+def stress_tests(bench: Bench, loads: pd.DataFrame, progress: Callable[[str], None]) -> pd.DataFrame:
+    """Every load of Table 3 with every law: the engine's outcome beside the closed form."""
+    rows = []
+    for load in loads.itertuples():
+        sigma_n, tau = load.sigma_n_MPa * units.MPa, load.tau_MPa * units.MPa
+        state = jm.stiffness_state(np.array([sigma_n]), np.array([tau]), bench.stiffness)
+        strength = jm.strength_state(np.array([sigma_n]), bench.strength)
+        for kind in box.SHEAR_LAWS:
+            progress(f"stress-controlled {kind} sigma_n {load.sigma_n_MPa:g} MPa, tau {load.tau_MPa:g} MPa")
+            outcome = bench.stress_test(_label(sigma_n, tau, kind), bench.law(kind, sigma_n), sigma_n, tau)
+            closed = closed_form_displacement(bench, kind, sigma_n, tau)
+            law_k = float(state[LAW_KEYS[kind]][0])
+            floor = bench.config.joint_options.shear_stiffness_floor * float(state["K_si"][0])
+            rows.append(
+                {
+                    "sigma_n_MPa": load.sigma_n_MPa,
+                    "tau_MPa": load.tau_MPa,
+                    "law": kind,
+                    "status": outcome.status,
+                    "d_h_mm": outcome.d_h / units.mm,
+                    "d_h_closed_form_mm": closed / units.mm,
+                    "engine_minus_closed_form_pct": 100 * (outcome.d_h / closed - 1)
+                    if outcome.status == "holds"
+                    else math.nan,
+                    "strength_eq15_MPa": float(strength["tau_p_bb"][0]) / units.MPa,
+                    "tau_over_strength": tau / float(strength["tau_p_bb"][0]),
+                    "K_st_at_load_MPa_per_mm": max(law_k, floor) / units.MPa_per_mm,
+                    "K_st_engine_end_MPa_per_mm": outcome.final_ks / units.MPa_per_mm,
+                    "stiffness_floor_acts": law_k < floor,
+                    "steps": outcome.steps,
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def _reasoning(row: pd.Series, paper: float) -> str:
+    if row["status"] != "holds":
+        return (
+            f"tau = {row['tau_MPa']:g} MPa exceeds the eq 15 strength {row['strength_eq15_MPa']:.4f} MPa "
+            f"({row['tau_over_strength']:.2f} x): a stress-controlled test has no equilibrium and the joint "
+            "slides without limit; the paper's finite d_h cannot come from this model (audit F16)"
+        )
+    return (
+        "engine d_h equals the closed form integral of d tau / K_st "
+        f"({row['engine_minus_closed_form_pct']:+.2f} %); "
+        f"the paper's is {paper / row['d_h_mm']:.0f} x larger: its stiffnesses cannot give its displacements "
+        "(audit F5)"
+    )
+
+
+def table3_comparison(loads: pd.DataFrame, tests: pd.DataFrame) -> pd.DataFrame:
+    """Table 3 beside ours, cell by cell: the paper's T, N-U and N-C; our three laws; differences and
+    the verdict on each printed numerical d_h (bbmc.comparison.judge, d_h tolerance)."""
+    tol = TOLERANCES["d_h_mm"].value
+    wide = tests.pivot_table(index=["sigma_n_MPa", "tau_MPa"], columns="law", values="d_h_mm", sort=False)
+    rows = []
+    for load in loads.itertuples():
+        key = (load.sigma_n_MPa, load.tau_MPa)
+        row = {
+            "sigma_n_MPa": load.sigma_n_MPa,
+            "tau_MPa": load.tau_MPa,
+            "d_h_test_mm": load.d_h_test_mm,
+            "d_h_paper_uncorrected_mm": load.d_h_numerical_uncorrected_mm,
+            "d_h_paper_corrected_mm": load.d_h_numerical_corrected_mm,
+        }
+        for kind in box.SHEAR_LAWS:
+            row[f"d_h_{kind}_mm"] = wide.loc[key, kind]
+        for kind, column in PAPER_COLUMNS.items():
+            paper, ours = getattr(load, column), row[f"d_h_{kind}_mm"]
+            test_row = tests[
+                (tests["sigma_n_MPa"] == load.sigma_n_MPa)
+                & (tests["tau_MPa"] == load.tau_MPa)
+                & (tests["law"] == kind)
+            ].iloc[0]
+            verdict = judge(paper, ours, tol)
+            row[f"{kind}_minus_paper_mm"] = ours - paper
+            row[f"{kind}_relative_difference"] = (ours - paper) / paper
+            row[f"{kind}_verdict"] = verdict.verdict
+            row[f"{kind}_reasoning"] = _reasoning(test_row, paper)
+        row["corrected_minus_test_mm"] = row["d_h_corrected_mm"] - load.d_h_test_mm
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def velocity_curves(bench: Bench, stresses: np.ndarray, progress: Callable[[str], None]) -> pd.DataFrame:
+    frames = []
+    for sigma_n in stresses:
+        for kind in box.SHEAR_LAWS:
+            progress(f"constant-velocity {kind} sigma_n {sigma_n / units.MPa:g} MPa")
+            curve = bench.velocity_test(
+                f"velocity_{_label(sigma_n, None, kind)}", bench.law(kind, sigma_n), sigma_n
+            )
+            frames.append(curve.assign(law=kind, sigma_n_applied_MPa=sigma_n / units.MPa))
+    table = pd.concat(frames, ignore_index=True)
+    return table[["law", "sigma_n_applied_MPa", "time_s", "d_h_mm", "tau_MPa", "sigma_n_MPa"]]
+
+
+def velocity_peaks(curves: pd.DataFrame, bench: Bench, table1: pd.DataFrame) -> pd.DataFrame:
+    """Peak of each curve beside the eq 15 strength and the measured tau_p of Table 1."""
+    rows = []
+    for (kind, sigma), curve in curves.groupby(["law", "sigma_n_applied_MPa"], sort=False):
+        peak = curve.index[np.argmax(curve["tau_MPa"].to_numpy() >= PEAK_FRACTION * curve["tau_MPa"].max())]
+        strength = jm.strength_state(np.array([sigma * units.MPa]), bench.strength)["tau_p_bb"][0] / units.MPa
+        measured = table1.loc[np.isclose(table1["sigma_n_MPa"], sigma), "tau_p_MPa"]
+        rows.append(
+            {
+                "law": kind,
+                "sigma_n_MPa": sigma,
+                "peak_tau_MPa": curve.loc[peak, "tau_MPa"],
+                "d_h_at_peak_mm": curve.loc[peak, "d_h_mm"],
+                "strength_eq15_MPa": float(strength),
+                "tau_p_measured_MPa": float(measured.iloc[0]) if len(measured) else math.nan,
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def _calibration_tests(bench: Bench, loads: pd.DataFrame) -> list[cal.Test]:
+    tests = []
+    for load in loads.itertuples():
+        sigma_n, tau = load.sigma_n_MPa * units.MPa, load.tau_MPa * units.MPa
+        state = jm.stiffness_state(np.array([sigma_n]), np.array([tau]), bench.stiffness)
+        tests.append(
+            cal.Test(
+                sigma_n=sigma_n,
+                tau=tau,
+                tau_p=float(state["tau_p_fit"][0]),
+                tau_ult=float(state["tau_ult_fit"][0]),
+                k_si=float(state["K_si"][0]),
+                target=load.d_h_test_mm * units.mm,
+            )
+        )
+    return tests
+
+
+def constant_stiffness_forward(bench: Bench, tests: list[cal.Test]) -> cal.Forward:
+    """The simulation the calibration root-finds around: one test with one constant K_s."""
+
+    def forward(index: int, k_s: float) -> float:
+        t = tests[index]
+        shear = {"law": "constant", "ks_MPa_per_mm": k_s / units.MPa_per_mm}
+        name = f"calibration_{_label(t.sigma_n, t.tau, 'constant')}"
+        return bench.stress_test(
+            name, bench.law("corrected", t.sigma_n, shear), t.sigma_n, t.tau, keep=False
+        ).d_h
+
+    return forward
+
+
+def calibration(
+    bench: Bench, loads: pd.DataFrame, constants: dict[str, float], progress: Callable[[str], None]
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Eq 16's a and b from the test d_h, per fit set, beside the paper's; and the per-test detail."""
+    paper_a, paper_b = constants["eq16.correction_a"], constants["eq16.correction_b"]
+    progress("calibration: one K_s per test")
+    tests = _calibration_tests(bench, loads)
+    forward = constant_stiffness_forward(bench, tests)
+    results = cal.calibrate(tests, forward, bench.config.calibration.tolerance_log_k)
+    detail = pd.DataFrame(
+        {
+            "sigma_n_MPa": loads["sigma_n_MPa"].to_numpy(),
+            "tau_MPa": loads["tau_MPa"].to_numpy(),
+            "tau_over_tau_p": [t.ratio for t in tests],
+            "d_h_target_mm": [t.target / units.mm for t in tests],
+            "status": [r.status for r in results],
+            "d_h_reached_mm": [r.d_h / units.mm for r in results],
+            "K_s_calibrated_MPa_per_mm": [r.k_s / units.MPa_per_mm for r in results],
+            "K_si_MPa_per_mm": [t.k_si / units.MPa_per_mm for t in tests],
+            "K_st_uncorrected_MPa_per_mm": [
+                float(
+                    jm.stiffness_state(np.array([t.sigma_n]), np.array([t.tau]), bench.stiffness)[
+                        "K_st_uncorrected"
+                    ][0]
+                )
+                / units.MPa_per_mm
+                for t in tests
+            ],
+            "f_calibrated": [
+                t.correction(r.k_s) if r.status == "matched" else math.nan
+                for t, r in zip(tests, results, strict=True)
+            ],
+            "K_st_corrected_paper_MPa_per_mm": loads["K_st_corrected_MPa_per_mm"].to_numpy(),
+            "f_from_paper_K_st": [
+                t.correction(k * units.MPa_per_mm)
+                for t, k in zip(tests, loads["K_st_corrected_MPa_per_mm"], strict=True)
+            ],
+            "simulations": [r.evaluations for r in results],
+        }
+    )
+    detail["calibrated_over_uncorrected"] = (
+        detail["K_s_calibrated_MPa_per_mm"] / detail["K_st_uncorrected_MPa_per_mm"]
+    )
+    rows = []
+    for fit_set in bench.config.calibration.fit_sets:
+        chosen = [
+            fit_set.sigma_n_MPa is None or float(s) in fit_set.sigma_n_MPa for s in detail["sigma_n_MPa"]
+        ]
+        subset = [t for t, keep in zip(tests, chosen, strict=True) if keep]
+        for method, column in (
+            ("engine: one K_s per test matched to the test d_h", "f_calibrated"),
+            ("no simulation: the paper's corrected K_st solved for f", "f_from_paper_K_st"),
+        ):
+            f = detail.loc[chosen, column].tolist()
+            fit = cal.fit_correction(subset, f)
+            rows.append(
+                {
+                    "fit_set": fit_set.name,
+                    "method": method,
+                    "tests_used": int(np.isfinite(f).sum()),
+                    "tests_in_set": len(subset),
+                    "a": fit.a if fit else math.nan,
+                    "b": fit.b if fit else math.nan,
+                    "R2": fit.r2 if fit else math.nan,
+                    "paper_a": paper_a,
+                    "paper_b": paper_b,
+                    "a_minus_paper": (fit.a - paper_a) if fit else math.nan,
+                    "b_minus_paper": (fit.b - paper_b) if fit else math.nan,
+                }
+            )
+    return pd.DataFrame(rows), detail
+
+
+def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
+    """Run every test and the calibration; tabulate and draw. Nothing is written here."""
+    inputs = load_inputs(config)
+    bench = Bench(config, inputs)
+    loads = inputs["table3"]
+    tests = stress_tests(bench, loads, progress)
+    table3 = table3_comparison(loads, tests)
+    stresses = np.unique(loads["sigma_n_MPa"].to_numpy()) * units.MPa
+    curves = velocity_curves(bench, stresses, progress)
+    peaks = velocity_peaks(curves, bench, inputs["table1"])
+    test_curves = fit_stage.fig1_curves(inputs["table1"], inputs["legends"], config.fig2a_units, 200)
+    constants = jm.printed_constants(inputs["constants"])
+    fits, detail = calibration(bench, loads, constants, progress)
+    dpi = config.figure_dpi
+    return StageResult(
+        tables={
+            "table3_shear": table3,
+            "stress_tests": tests,
+            "velocity_curves": curves,
+            "velocity_peaks": peaks,
+            "test_curves": test_curves,
+            "calibration": fits,
+            "calibration_tests": detail,
+        },
+        figures={
+            "fig4": fig4(table3, dpi),
+            "fig6": fig6(curves, test_curves, peaks, config.constant_velocity.velocity_m_s, dpi),
+            "calibration": calibration_figure(detail, fits, dpi),
+        },
+        files=bench.scenes,
+    )
