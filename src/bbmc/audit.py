@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
-from scipy import integrate, optimize
+from scipy import optimize
 
 from bbmc import joint_model as jm
 from bbmc import laws, units
@@ -226,18 +226,6 @@ def fig2a_unit_checks(log: AuditLog, ctx: AuditInputs) -> None:
         )
 
 
-def _tangent_displacement(sigma_n: float, tau: float, stiffness: jm.StiffnessParameters, law: str) -> float:
-    """d_h = integral of d tau / K_st(tau) from 0 to tau [m]: a joint loaded by stress, no slip."""
-
-    def compliance(t: float) -> float:
-        return 1.0 / float(jm.stiffness_state(sigma_n, t, stiffness)[law])
-
-    if float(jm.stiffness_state(sigma_n, tau, stiffness)[law]) == 0.0:
-        return math.inf
-    value, _ = integrate.quad(compliance, 0.0, tau, limit=200)
-    return value
-
-
 def table3_checks(log: AuditLog, ctx: AuditInputs) -> None:
     """Table 3: both K_st columns, K_n, Phi, C, and whether the stiffnesses give the displacements."""
     p = ctx.stiffness
@@ -311,7 +299,7 @@ def table3_checks(log: AuditLog, ctx: AuditInputs) -> None:
             ("K_st_uncorrected", "d_h_numerical_uncorrected_mm", "N-U"),
             ("K_st_corrected", "d_h_numerical_corrected_mm", "N-C"),
         ):
-            d_h = _tangent_displacement(sigma_n[i], tau[i], p, law) / units.mm
+            d_h = jm.tangent_displacement(sigma_n[i], tau[i], p, law) / units.mm
             printed = getattr(row, column)
             log.check(
                 "Table 3",

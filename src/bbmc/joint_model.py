@@ -26,6 +26,7 @@ from typing import Literal
 import numpy as np
 import pandas as pd
 from pydantic import Field, model_validator
+from scipy import integrate
 
 from bbmc import laws, units
 from bbmc.config import Section
@@ -180,3 +181,20 @@ def strength_state(sigma_n: np.ndarray, p: StrengthParameters) -> dict[str, np.n
         "phi": laws.equivalent_friction_angle(sigma_n, *args, p.k),
         "c": laws.equivalent_cohesion(sigma_n, *args, p.k),
     }
+
+
+def tangent_displacement(
+    sigma_n: float, tau: float, p: StiffnessParameters, law: str, floor: float = 0.0
+) -> float:
+    """d_h [m] of a joint loaded by shear stress to `tau` [Pa] at constant `sigma_n` [Pa] without slip:
+    the integral of d tau / K_st from 0 to tau, K_st the `law` of `stiffness_state` (e.g.
+    ``K_st_corrected``) floored at `floor` x K_si as the engine does; inf where K_st reaches 0."""
+
+    def stiffness(t: float) -> float:
+        state = stiffness_state(np.array(sigma_n), np.array(t), p)
+        return max(float(state[law]), floor * float(state["K_si"]))
+
+    if stiffness(tau) == 0.0:
+        return math.inf
+    value, _ = integrate.quad(lambda t: 1.0 / stiffness(t), 0.0, tau, limit=400, epsabs=0.0, epsrel=1e-10)
+    return value

@@ -308,6 +308,8 @@ def advance(model: Model, state: State, n_steps: int) -> None:
         if status == kernels.SEARCH_NEEDED:
             search_contacts(model, state)
             _set_time_step(model, state)
+            if _moved_beyond_stop(model, state):
+                break  # blocks move at most half the search margin between searches: the stop is sharp
         _note_time_step(state)
 
 
@@ -343,18 +345,26 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
 STOP_REASONS = ("equilibrium", "displacement")
 
 
+def _moved_beyond_stop(model: Model, state: State) -> bool:
+    """True once a free block has moved further than the stop's displacement_m from its start."""
+    stop = model.scene.solver.stop
+    if stop is None or stop.displacement_m is None:
+        return False
+    free = np.any(state.dof[:, :2] == L.FREE, axis=1)
+    b = state.blocks[free]
+    return bool(
+        np.max(np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0]), initial=0.0) > stop.displacement_m
+    )
+
+
 def _stop_reason(model: Model, state: State, reference: float) -> str:
     """Which stop condition holds now ("" for none); equilibrium counts only once the loads act in
     full, since a slowly ramped load is in near balance all along its ramp."""
     stop = model.scene.solver.stop
     if stop is None:
         return ""
-    if stop.displacement_m is not None:
-        free = np.any(state.dof[:, :2] == L.FREE, axis=1)
-        b = state.blocks[free]
-        moved = np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0])
-        if np.max(moved, initial=0.0) > stop.displacement_m:
-            return "displacement"
+    if _moved_beyond_stop(model, state):
+        return "displacement"
     if (
         stop.unbalanced_force_ratio is not None
         and state.step >= model.loads_applied_step

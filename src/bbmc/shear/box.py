@@ -28,7 +28,7 @@ from typing import Annotated, Literal
 
 import numpy as np
 import pandas as pd
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from bbmc import joint_model as jm
 from bbmc import laws, units
@@ -70,6 +70,13 @@ class StressControlled(Section):
     update_interval_steps: Steps = 50
     record_every_steps: Steps = 20
 
+    @model_validator(mode="after")
+    def _normal_first(self) -> StressControlled:
+        _check_sequence(self.normal_ramp_steps, self.shear_start_step)
+        if self.max_steps <= self.shear_start_step + self.shear_ramp_steps:
+            raise ValueError("max_steps must exceed shear_start_step + shear_ramp_steps")
+        return self
+
 
 class ConstantVelocity(Section):
     velocity_m_s: Positive = 0.005
@@ -78,6 +85,19 @@ class ConstantVelocity(Section):
     shear_start_step: Steps = 1500
     update_interval_steps: Steps = 50
     record_every_steps: Steps = 50
+
+    @model_validator(mode="after")
+    def _normal_first(self) -> ConstantVelocity:
+        _check_sequence(self.normal_ramp_steps, self.shear_start_step)
+        return self
+
+
+def _check_sequence(normal_ramp_steps: int, shear_start_step: int) -> None:
+    if shear_start_step < normal_ramp_steps:
+        raise ValueError(
+            f"shear_start_step ({shear_start_step}) must not come before the normal stress is fully applied "
+            f"(normal_ramp_steps {normal_ramp_steps})"
+        )
 
 
 @dataclass(frozen=True)

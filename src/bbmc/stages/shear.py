@@ -21,8 +21,7 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 import yaml
-from pydantic import Field
-from scipy.integrate import quad
+from pydantic import Field, model_validator
 
 from bbmc import joint_model as jm
 from bbmc import units
@@ -77,6 +76,20 @@ class Config(Section):
     fig2a_units: fit_stage.Fig2aUnits
     quick: Quick
     figure_dpi: int = Field(ge=50, le=600)
+
+    @model_validator(mode="after")
+    def _constant_contact_length(self) -> Config:
+        extension = self.specimen.lower_extension_mm
+        for key, value in (
+            ("stress_controlled.slide_limit_mm", self.stress_controlled.slide_limit_mm),
+            ("constant_velocity.shear_displacement_mm", self.constant_velocity.shear_displacement_mm),
+        ):
+            if value > extension:
+                raise ValueError(
+                    f"{key} ({value:g}) exceeds specimen.lower_extension_mm ({extension:g}): the joint would "
+                    "lose contact length, and the nominal tau of the laws would no longer be the joint's"
+                )
+        return self
 
 
 def quick_config(config: Config) -> Config:
@@ -145,25 +158,10 @@ def _label(sigma_n: float, tau: float | None, law: str) -> str:
     return f"{law}_{load}".replace(".", "p")
 
 
-def closed_form_displacement(bench: Bench, kind: box.ShearLaw, sigma_n: float, tau: float) -> float:
-    """d_h [m] of a joint that holds: the integral of d tau / K_st from 0 to tau, K_st floored as in
-    the engine (a fraction of K_si); inf where K_st is 0 somewhere on the way."""
-    floor = bench.config.joint_options.shear_stiffness_floor
-
-    def compliance(t: float) -> float:
-        state = jm.stiffness_state(np.array([sigma_n]), np.array([t]), bench.stiffness)
-        k = max(float(state[LAW_KEYS[kind]][0]), floor * float(state["K_si"][0]))
-        return 1.0 / k if k > 0 else math.inf
-
-    if kind == "simplified":
-        return tau * compliance(tau)
-    value, _ = quad(compliance, 0.0, tau, limit=400, epsabs=0.0, epsrel=1e-10)
-    return value
-
-
 def stress_tests(bench: Bench, loads: pd.DataFrame, progress: Callable[[str], None]) -> pd.DataFrame:
     """Every load of Table 3 with every law: the engine's outcome beside the closed form."""
     rows = []
+    floor_fraction = bench.config.joint_options.shear_stiffness_floor
     for load in loads.itertuples():
         sigma_n, tau = load.sigma_n_MPa * units.MPa, load.tau_MPa * units.MPa
         state = jm.stiffness_state(np.array([sigma_n]), np.array([tau]), bench.stiffness)
@@ -171,9 +169,9 @@ def stress_tests(bench: Bench, loads: pd.DataFrame, progress: Callable[[str], No
         for kind in box.SHEAR_LAWS:
             progress(f"stress-controlled {kind} sigma_n {load.sigma_n_MPa:g} MPa, tau {load.tau_MPa:g} MPa")
             outcome = bench.stress_test(_label(sigma_n, tau, kind), bench.law(kind, sigma_n), sigma_n, tau)
-            closed = closed_form_displacement(bench, kind, sigma_n, tau)
+            closed = jm.tangent_displacement(sigma_n, tau, bench.stiffness, LAW_KEYS[kind], floor_fraction)
             law_k = float(state[LAW_KEYS[kind]][0])
-            floor = bench.config.joint_options.shear_stiffness_floor * float(state["K_si"][0])
+            floor = floor_fraction * float(state["K_si"][0])
             rows.append(
                 {
                     "sigma_n_MPa": load.sigma_n_MPa,
