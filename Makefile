@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: reproduce test test-slow bench lint fit mc audit clean
+.PHONY: reproduce test test-slow bench lint fit mc audit shear clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-reproduce: fit mc audit
+reproduce: fit mc audit shear
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -22,6 +22,9 @@ mc: $(STAMP)
 
 audit: $(STAMP)
 	$(BIN)/bbmc audit --config configs/audit.yaml
+
+shear: $(STAMP)
+	$(BIN)/bbmc shear --config configs/shear.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q
@@ -37,4 +40,4 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check src tests
 
 clean:
-	rm -rf results/fit results/mc results/audit results/bench
+	rm -rf results/fit results/mc results/audit results/shear results/shear-quick results/bench
