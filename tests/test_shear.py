@@ -251,3 +251,14 @@ def test_bad_shear_config_is_one_line_exit_2_nothing_written(tmp_path, key, valu
     assert message in result.output and str(config) in result.output
     assert len(result.output.strip().splitlines()) == 1
     assert not (tmp_path / "out" / "shear").exists()
+
+
+def test_a_written_scene_reruns_with_bbmc_run_to_the_same_d_h(results, tmp_path) -> None:
+    """scenes/*.yaml are the scenes the stage ran: `bbmc run` on one gives the d_h of stress_tests.csv."""
+    scene = results / "scenes" / "corrected_0p2MPa_0p13MPa.yaml"
+    outcome = run_stage("run", tmp_path, scene)
+    assert outcome.exit_code == 0, outcome.output
+    history = pd.read_csv(tmp_path / "run" / scene.stem / "history.csv")
+    tests = pd.read_csv(results / "stress_tests.csv")
+    row = tests[(tests["law"] == "corrected") & (tests["tau_MPa"] == 0.13)].iloc[0]
+    assert abs(history["d_h_mm"].iloc[-1]) == row["d_h_mm"]
