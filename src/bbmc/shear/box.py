@@ -42,7 +42,6 @@ Positive = Annotated[float, Field(gt=0)]
 Steps = Annotated[int, Field(ge=1)]
 ShearLaw = Literal["uncorrected", "corrected", "simplified"]
 SHEAR_LAWS: tuple[ShearLaw, ...] = ("uncorrected", "corrected", "simplified")
-STATUSES = ("holds", "slides", "runs off", "not settled")
 
 
 class Specimen(Section):
@@ -164,7 +163,18 @@ def joint_law(
     }
 
 
-def _blocks(specimen: Specimen, density: float, upper_velocity: dict | None) -> tuple[dict, list[dict]]:
+def _scene(
+    name: str,
+    specimen: Specimen,
+    density: float,
+    law: dict,
+    sigma_n: float,
+    normal_ramp_steps: int,
+    every: int,
+    upper_velocity: dict | None = None,
+) -> dict:
+    """The box with sigma_n [Pa] ramped onto the upper half's top; loads after it and the solver are
+    added by the two tests."""
     length, half = specimen.length_mm * 1e-3, specimen.height_mm * 0.5e-3
     extension = specimen.lower_extension_mm * 1e-3
     upper = {
@@ -172,9 +182,8 @@ def _blocks(specimen: Specimen, density: float, upper_velocity: dict | None) -> 
         "material": "limestone",
         "rectangle_m": {"x_m": -length / 2, "y_m": 0.0, "width_m": length, "height_m": half},
         "fix": ["rotation"],
+        **({"velocity": upper_velocity} if upper_velocity else {}),
     }
-    if upper_velocity:
-        upper["velocity"] = upper_velocity
     lower = {
         "name": "lower",
         "material": "limestone",
@@ -186,15 +195,24 @@ def _blocks(specimen: Specimen, density: float, upper_velocity: dict | None) -> 
         },
         "fix": ["x", "y", "rotation"],
     }
-    return {"limestone": {"density_kg_m3": density}}, [lower, upper]
-
-
-def _monitors(every: int) -> dict:
-    joint = [
+    joint_monitors = [
         {"name": name, "near_m": [0.0, 0.0], "quantity": quantity}
         for name, quantity in (("d_h", "us"), ("tau", "tau"), ("sigma_n", "sigma_n"), ("ks", "ks"))
     ]
-    return {"every_steps": every, "monitors": [*joint, {"name": "uy", "block": "upper", "quantity": "uy"}]}
+    normal = {"block": "upper", "edge": "up", "sigma_n_MPa": float(sigma_n / units.MPa)}
+    return {
+        "name": name,
+        "gravity_m_s2": [0.0, 0.0],
+        "materials": {"limestone": {"density_kg_m3": density}},
+        "blocks": [lower, upper],
+        "joint_laws": {"joint": law},
+        "contacts": {"default_law": "joint", "sub_contacts_per_edge": specimen.sub_contacts_per_edge},
+        "loads": {"edge_stresses": [{**normal, "ramp_steps": normal_ramp_steps}]},
+        "monitoring": {
+            "every_steps": every,
+            "monitors": [*joint_monitors, {"name": "uy", "block": "upper", "quantity": "uy"}],
+        },
+    }
 
 
 def stress_controlled_scene(
@@ -207,73 +225,41 @@ def stress_controlled_scene(
     tau: float,
 ) -> dict:
     """The scene of one stress-controlled test (stresses in Pa); tau drags the upper half towards +x."""
-    materials, blocks = _blocks(specimen, density, None)
-    return {
-        "name": name,
-        "gravity_m_s2": [0.0, 0.0],
-        "materials": materials,
-        "blocks": blocks,
-        "joint_laws": {"joint": law},
-        "contacts": {"default_law": "joint", "sub_contacts_per_edge": specimen.sub_contacts_per_edge},
-        "loads": {
-            "edge_stresses": [
-                {
-                    "block": "upper",
-                    "edge": "up",
-                    "sigma_n_MPa": float(sigma_n / units.MPa),
-                    "ramp_steps": run.normal_ramp_steps,
-                },
-                {
-                    "block": "upper",
-                    "edge": "up",
-                    "tau_MPa": float(-tau / units.MPa),  # the top edge's counter-clockwise tangent is -x
-                    "ramp_steps": run.shear_ramp_steps,
-                    "start_step": run.shear_start_step,
-                },
-            ]
+    scene = _scene(name, specimen, density, law, sigma_n, run.normal_ramp_steps, run.record_every_steps)
+    scene["loads"]["edge_stresses"].append(
+        {
+            "block": "upper",
+            "edge": "up",
+            "tau_MPa": float(-tau / units.MPa),  # the top edge's counter-clockwise tangent is -x
+            "ramp_steps": run.shear_ramp_steps,
+            "start_step": run.shear_start_step,
+        }
+    )
+    scene["solver"] = {
+        "steps": run.max_steps,
+        "update_interval_steps": run.update_interval_steps,
+        "stop": {
+            "unbalanced_force_ratio": run.equilibrium_ratio,
+            "displacement_m": run.slide_limit_mm * 1e-3,
         },
-        "solver": {
-            "steps": run.max_steps,
-            "update_interval_steps": run.update_interval_steps,
-            "stop": {
-                "unbalanced_force_ratio": run.equilibrium_ratio,
-                "displacement_m": run.slide_limit_mm * 1e-3,
-            },
-        },
-        "monitoring": _monitors(run.record_every_steps),
     }
+    return scene
 
 
 def constant_velocity_scene(
     name: str, specimen: Specimen, run: ConstantVelocity, density: float, law: dict, sigma_n: float
 ) -> dict:
-    """The scene of one constant-velocity test (sigma_n in Pa)."""
+    """The scene of one constant-velocity test (sigma_n in Pa): the upper half driven towards +x."""
     velocity = {"x_m_s": run.velocity_m_s, "start_step": run.shear_start_step}
-    materials, blocks = _blocks(specimen, density, velocity)
-    return {
-        "name": name,
-        "gravity_m_s2": [0.0, 0.0],
-        "materials": materials,
-        "blocks": blocks,
-        "joint_laws": {"joint": law},
-        "contacts": {"default_law": "joint", "sub_contacts_per_edge": specimen.sub_contacts_per_edge},
-        "loads": {
-            "edge_stresses": [
-                {
-                    "block": "upper",
-                    "edge": "up",
-                    "sigma_n_MPa": float(sigma_n / units.MPa),
-                    "ramp_steps": run.normal_ramp_steps,
-                }
-            ]
-        },
-        "solver": {
-            "steps": 10**9,
-            "update_interval_steps": run.update_interval_steps,
-            "stop": {"displacement_m": run.shear_displacement_mm * 1e-3},
-        },
-        "monitoring": _monitors(run.record_every_steps),
+    scene = _scene(
+        name, specimen, density, law, sigma_n, run.normal_ramp_steps, run.record_every_steps, velocity
+    )
+    scene["solver"] = {
+        "steps": 10**9,  # the displacement stop ends it: the velocity is prescribed
+        "update_interval_steps": run.update_interval_steps,
+        "stop": {"displacement_m": run.shear_displacement_mm * 1e-3},
     }
+    return scene
 
 
 def _simulate(scene: dict):
@@ -282,7 +268,9 @@ def _simulate(scene: dict):
 
 
 def run_stress_controlled(scene: dict) -> Outcome:
-    """Run a stress-controlled test and classify how it ended (see `STATUSES`)."""
+    """Run a stress-controlled test and classify how it ended: "holds" (equilibrium), "slides" (moved
+    slide_limit_mm and slipped), "runs off" (moved that far without slip: K_s at its floor) or "not
+    settled" (max_steps reached)."""
     result = _simulate(scene)
     summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
     h = result.history
