@@ -59,44 +59,40 @@ class JointOptions(Section):
     after_slip: Literal["zero", "keep"] = "keep"  # eq 15's c is the tangent's intercept, not a bond
 
 
-class StressControlled(Section):
-    normal_ramp_steps: Steps = 1000
-    shear_start_step: Steps = 1500
-    shear_ramp_steps: Steps = 20_000
-    max_steps: Steps = 80_000
-    equilibrium_ratio: Positive = 1e-6
-    slide_limit_mm: Positive = 25.0
-    update_interval_steps: Steps = 50
-    record_every_steps: Steps = 20
+class Schedule(Section):
+    """What both tests share: sigma_n ramped on first, then shearing from `shear_start_step`."""
 
-    @model_validator(mode="after")
-    def _normal_first(self) -> StressControlled:
-        _check_sequence(self.normal_ramp_steps, self.shear_start_step)
-        if self.max_steps <= self.shear_start_step + self.shear_ramp_steps:
-            raise ValueError("max_steps must exceed shear_start_step + shear_ramp_steps")
-        return self
-
-
-class ConstantVelocity(Section):
-    velocity_m_s: Positive = 0.005
-    shear_displacement_mm: Positive = 20.0
     normal_ramp_steps: Steps = 1000
     shear_start_step: Steps = 1500
     update_interval_steps: Steps = 50
     record_every_steps: Steps = 50
 
     @model_validator(mode="after")
-    def _normal_first(self) -> ConstantVelocity:
-        _check_sequence(self.normal_ramp_steps, self.shear_start_step)
+    def _normal_first(self) -> Schedule:
+        if self.shear_start_step < self.normal_ramp_steps:
+            raise ValueError(
+                f"shear_start_step ({self.shear_start_step}) must not come before the normal stress is fully "
+                f"applied (normal_ramp_steps {self.normal_ramp_steps})"
+            )
         return self
 
 
-def _check_sequence(normal_ramp_steps: int, shear_start_step: int) -> None:
-    if shear_start_step < normal_ramp_steps:
-        raise ValueError(
-            f"shear_start_step ({shear_start_step}) must not come before the normal stress is fully applied "
-            f"(normal_ramp_steps {normal_ramp_steps})"
-        )
+class StressControlled(Schedule):
+    shear_ramp_steps: Steps = 20_000
+    max_steps: Steps = 80_000
+    equilibrium_ratio: Positive = 1e-6
+    slide_limit_mm: Positive = 25.0
+
+    @model_validator(mode="after")
+    def _room_to_settle(self) -> StressControlled:
+        if self.max_steps <= self.shear_start_step + self.shear_ramp_steps:
+            raise ValueError("max_steps must exceed shear_start_step + shear_ramp_steps")
+        return self
+
+
+class ConstantVelocity(Schedule):
+    velocity_m_s: Positive = 0.005
+    shear_displacement_mm: Positive = 20.0
 
 
 @dataclass(frozen=True)
