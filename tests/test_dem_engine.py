@@ -298,6 +298,20 @@ def test_displacement_stop_ends_a_sliding_run(tmp_path):
     assert summary["steps"] < 50_000
 
 
+def test_displacement_stop_sees_a_block_driven_at_a_velocity(tmp_path):
+    """A block with every dof prescribed, driven at 0.01 m/s, still ends the run by the displacement
+    stop (within half the search margin of the limit)."""
+    scene = block_on_base(0.0, constant_joint(30.0), steps=10**7, every=1000)
+    scene["blocks"][1]["fix"] = ["y", "rotation"]
+    scene["blocks"][1]["velocity"] = {"x_m_s": 0.01}
+    scene["solver"]["stop"] = {"displacement_m": 0.002}
+    scene["solver"]["time_step"] = {"step_s": 1e-4}  # a held block's joint sets no critical step
+    result = run_scene(tmp_path, scene)
+    summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
+    assert summary["stopped_by_displacement"] == 1
+    assert 2.0 < result.history["ux_mm"].iloc[-1] < 2.0 + 0.5 * 0.02 * 200
+
+
 def test_engine_benchmark_reports_rates_and_growth():
     """The benchmark's table on two small walls: sizes as asked, finite rates, the growth columns."""
     table = engine_table([20, 80], sub_contacts=2, steps=20, repeats=1)

@@ -76,9 +76,9 @@ class Model:
 
     @property
     def loads_applied_step(self) -> int:
-        """The step from which every load acts in full (the end of the last ramp)."""
+        """The step from which every load acts in full and every prescribed velocity has started."""
         ends = [row[-2] + row[-1] for row in (*self.block_loads, *self.edge_loads)]
-        return int(max(ends, default=0))
+        return int(max([*ends, *self.blocks[:, L.VSTART]], default=0))
 
 
 def _error(path: Path, key: str, message: str) -> ConfigError:

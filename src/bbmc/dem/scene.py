@@ -215,9 +215,10 @@ class TimeStep(Section):
 
 
 class Stop(Section):
-    """Stop once the loads act in full and the unbalanced force ratio (max unbalanced force / max
-    applied force) is below `unbalanced_force_ratio`, or once a free block has moved further than
-    `displacement_m` from where it started; whichever comes first."""
+    """Stop once the loads act in full (and prescribed velocities have started) and the unbalanced
+    force ratio (max unbalanced force / max applied force) is below `unbalanced_force_ratio`, or once
+    a block that can move has moved further than `displacement_m` from where it started; whichever
+    comes first."""
 
     unbalanced_force_ratio: Positive | None = None
     displacement_m: Positive | None = None

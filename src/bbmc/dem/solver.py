@@ -309,7 +309,7 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             search_contacts(model, state)
             _set_time_step(model, state)
             if _moved_beyond_stop(model, state):
-                break  # blocks move at most half the search margin between searches: the stop is sharp
+                break  # blocks move at most half the search margin between searches: so does the overshoot
         _note_time_step(state)
 
 
@@ -346,12 +346,12 @@ STOP_REASONS = ("equilibrium", "displacement")
 
 
 def _moved_beyond_stop(model: Model, state: State) -> bool:
-    """True once a free block has moved further than the stop's displacement_m from its start."""
+    """True once a block that can move (free, or driven at a velocity) has moved further than the
+    stop's displacement_m from its start (its centroid's displacement)."""
     stop = model.scene.solver.stop
     if stop is None or stop.displacement_m is None:
         return False
-    free = np.any(state.dof[:, :2] == L.FREE, axis=1)
-    b = state.blocks[free]
+    b = state.blocks[~_immobile(state)]
     return bool(
         np.max(np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0]), initial=0.0) > stop.displacement_m
     )

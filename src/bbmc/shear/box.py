@@ -6,8 +6,8 @@ with its middle at the origin. The lower half is fixed; the upper half is free i
 held by the box's frame. Gravity is off, so the joint's normal stress is the applied one. The lower
 half is `lower_extension_mm` longer at each end than the upper, so the contact keeps the upper half's
 full length while it shears (the paper's tau is nominal: force over the specimen's area). The halves
-are rigid: at the paper's stresses the limestone of Table 2 (G = 1.92 GPa) would add
-tau h / (2 G) < 0.003 mm to d_h.
+are rigid: deformable limestone (Table 2, G = 1.92 GPa) under uniform tau would shear each half by
+tau h / (2 G) <= 0.0041 mm, which moves the top, not the joint's relative displacement d_h.
 
 * Stress-controlled test (Fig 3): sigma_n ramped onto the top over `normal_ramp_steps`, then tau ramped
   from `shear_start_step` over `shear_ramp_steps`, slowly enough to be quasi-static; the run ends at
@@ -98,7 +98,7 @@ class ConstantVelocity(Schedule):
 @dataclass(frozen=True)
 class Outcome:
     """A stress-controlled test: d_h [m] (inf unless it holds), how it ended, and the joint's K_s at
-    the end [Pa/m] (the tangent stiffness at the load, once it holds)."""
+    the end [Pa/m] (the tangent stiffness at the load; nan unless it holds)."""
 
     d_h: float
     status: str
@@ -277,8 +277,9 @@ def run_stress_controlled(scene: dict) -> Outcome:
         status = "slides" if slipped else "runs off"
     else:
         status = "not settled"
-    d_h = abs(float(h["d_h_mm"].iloc[-1])) * units.mm if status == "holds" else math.inf
-    final_ks = abs(float(h["ks_MPa_per_mm"].iloc[-1])) * units.MPa_per_mm
+    holds = status == "holds"
+    d_h = abs(float(h["d_h_mm"].iloc[-1])) * units.mm if holds else math.inf
+    final_ks = float(h["ks_MPa_per_mm"].iloc[-1]) * units.MPa_per_mm if holds else math.nan
     return Outcome(d_h=d_h, status=status, steps=int(summary["steps"]), final_ks=final_ks)
 
 
@@ -286,7 +287,7 @@ def run_constant_velocity(scene: dict) -> pd.DataFrame:
     """The tau-d_h curve of a constant-velocity test from the start of shearing: d_h [mm], tau, sigma_n
     [MPa], time [s] since shearing began."""
     h = _simulate(scene).history
-    start = scene["blocks"][1]["velocity"]["start_step"]
+    start = next(b for b in scene["blocks"] if b["name"] == "upper")["velocity"]["start_step"]
     h = h[h["step"] >= start]
     return pd.DataFrame(
         {

@@ -15,6 +15,12 @@ displacements (docs/paper-audit.md, F5), so the targets are displacements, never
 
 On displacements the engine made with one known K_s per test, K_i = K_si [1 - f(x_i) tau_i/tau_ult]^2,
 the calibration returns that f (tests check it).
+
+What this method is, and is not: a constant K_s per test gives d_h = tau/K_s, so each K_i is the
+secant stiffness tau_i/d_i (the engine confirms it to 1e-5; the root-finding is the paper's procedure,
+kept so that any other forward model can replace the constant joint). Eq 16 is then read as if K_i
+were its tangent at tau_i. The a, b so fitted need not make eq 16, used as a tangent law, reproduce the
+targets; the shear stage reports what it gives (`d_h_fitted_law_mm`).
 """
 
 from __future__ import annotations
@@ -30,6 +36,7 @@ from bbmc.fitting import Fit, linear_fit
 
 Forward = Callable[[int, float], float]  # (test index, K_s [Pa/m]) -> simulated d_h [m], inf if it fails
 RAN_OFF = 50.0  # log mismatch of a run that did not hold (finite, so Brent keeps its bracket)
+MATCHED = 1e-5  # a root must bring |ln(d_h / target)| below this
 SOFTEST = 1e-6  # the search for K_s spans SOFTEST x K_si to K_si (eq 16's bracket clamp: K_st <= K_si)
 
 
@@ -53,7 +60,7 @@ class Test:
         return (1.0 - math.sqrt(k_s / self.k_si)) * self.tau_ult / self.tau
 
     def stiffness(self, f: float) -> float:
-        """Eq 16 at this load for a correction value f [Pa/m] (the bracket clamped to [0, 1])."""
+        """Eq 16 at this load for a correction value f [1]: K_st [Pa/m] (the bracket clamped to [0, 1])."""
         return self.k_si * min(max(1.0 - f * self.tau / self.tau_ult, 0.0), 1.0) ** 2
 
 
@@ -76,7 +83,7 @@ def calibrate_test(test: Test, index: int, forward: Forward, tolerance: float) -
 
     stiffest, softest = math.log(test.k_si), math.log(SOFTEST * test.k_si)
     high = mismatch(stiffest)
-    if high == RAN_OFF:
+    if high == RAN_OFF:  # even at K_si the test does not hold: the load exceeds the strength
         return TestResult(math.nan, math.inf, "slides", evaluations)
     if high > 0:
         return TestResult(math.nan, test.target * math.exp(high), "out of reach", evaluations)
@@ -84,7 +91,10 @@ def calibrate_test(test: Test, index: int, forward: Forward, tolerance: float) -
     if low < 0:
         return TestResult(math.nan, test.target * math.exp(low), "out of reach", evaluations)
     log_k = brentq(mismatch, softest, stiffest, xtol=tolerance)
-    return TestResult(math.exp(log_k), test.target * math.exp(mismatch(log_k)), "matched", evaluations)
+    left = mismatch(log_k)
+    if abs(left) > MATCHED:  # Brent closed in on a jump (a run that stops holding), not on a root
+        return TestResult(math.nan, test.target * math.exp(left), "out of reach", evaluations)
+    return TestResult(math.exp(log_k), test.target * math.exp(left), "matched", evaluations)
 
 
 def calibrate(tests: list[Test], forward: Forward, tolerance: float = 1e-10) -> list[TestResult]:

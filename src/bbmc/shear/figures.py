@@ -15,7 +15,7 @@ from bbmc import plots  # noqa: F401  (selects the Agg backend before any figure
 LAW_STYLE = {
     "uncorrected": ("tab:red", "N-U ours (eq 4)"),
     "corrected": ("tab:blue", "N-C ours (eq 16)"),
-    "simplified": ("tab:green", "N-S ours (eq 17)"),
+    "simplified": ("tab:green", "N-S ours (eq 17, D K_si)"),
 }
 PAPER_STYLE = {
     "d_h_test_mm": ("black", "T: test (paper)"),
@@ -30,7 +30,8 @@ def _load_labels(table3: pd.DataFrame) -> list[str]:
 
 def fig4(table3: pd.DataFrame, dpi: int) -> Figure:
     """Fig 4: (a) d_h of every load, the paper's T, N-U, N-C and our three laws; (b) sigma_n = 0.2 MPa
-    against tau. A test that slides (tau above the eq 15 strength) has no d_h: marked, not drawn."""
+    against tau. A test that does not hold (it slides: tau above the eq 15 strength) has no d_h:
+    marked "no d_h", not drawn. The d_h axes are logarithmic: bar lengths are not proportional."""
     fig = Figure(figsize=(13, 5.5), dpi=dpi, layout="constrained")
     ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1.7, 1])
     series = [
@@ -103,8 +104,15 @@ def fig6(
                 c = curves[(curves["law"] == law) & np.isclose(curves["sigma_n_applied_MPa"], sigma)]
                 c = c[c["d_h_mm"] > 0] if scale == "log" else c
                 ax.plot(c["d_h_mm"], c["tau_MPa"], "-", color=colour, label=label.replace(" ours", ""))
-            strength = peaks.loc[np.isclose(peaks["sigma_n_MPa"], sigma), "strength_eq15_MPa"].iloc[0]
-            ax.axhline(strength, color="0.3", lw=0.8, ls="--", label="eq 15 strength")
+            at = peaks.loc[np.isclose(peaks["sigma_n_MPa"], sigma)].iloc[0]
+            ax.axhline(at["strength_eq15_MPa"], color="0.3", lw=0.8, ls="--", label="eq 15 strength")
+            ax.axhline(
+                at["tau_p_measured_MPa"],
+                color="tab:purple",
+                lw=0.8,
+                ls="-.",
+                label="measured tau_p (Table 1)",
+            )
             ax.set_xscale(scale)
             ax.set(
                 xlabel=f"shear displacement $d_h$ (mm{', log scale' if scale == 'log' else ''})",
@@ -147,7 +155,7 @@ def calibration_figure(detail: pd.DataFrame, fits: pd.DataFrame, dpi: int) -> Fi
         label=f"eq 16: {paper['paper_a']:g} ln x + {paper['paper_b']:g}",
     )
     for row, style in zip(fits.itertuples(), ("-", "-.", ":", (0, (3, 1, 1, 1))), strict=False):
-        if np.isfinite(row.a) and row.method.startswith("engine"):
+        if np.isfinite(row.a) and "secant" in row.method:
             ax.plot(
                 grid,
                 row.a * grid + row.b,

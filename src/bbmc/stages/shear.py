@@ -9,12 +9,15 @@ Three parts, all on the shear box of `bbmc.shear.box`:
   Fig 6, beside the test curves that `bbmc fit` reconstructs for Fig 1.
 * The calibration of eq 16 (`bbmc.shear.calibration`) on the laboratory d_h of Table 3.
 
-Only the loads, the test d_h (calibration targets) and the fitted coefficients the paper gives as
-inputs are read from data/paper; the printed numerical d_h and stiffnesses are read only to compare.
+Read from data/paper as inputs: the loads and test d_h of Table 3 (the calibration's targets), the
+printed coefficients (equation_constants.csv), Table 2's density, Table 1 (fitted coefficients if
+asked; its measured tau_p is drawn in Fig 6) and the Fig 2a legends (the test curves of Fig 1). The
+printed numerical d_h and stiffnesses of Table 3 are read only to compare with.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 
@@ -36,7 +39,9 @@ from bbmc.stages import mc as mc_stage
 
 NAME = "shear"
 PAPER_COLUMNS = {"uncorrected": "d_h_numerical_uncorrected_mm", "corrected": "d_h_numerical_corrected_mm"}
-PAPER_STIFFNESS = {"uncorrected": "K_st_uncorrected_MPa_per_mm", "corrected": "K_st_corrected_MPa_per_mm"}
+SECANT_METHOD = (
+    "one constant K_s per test (a secant, as a 3DEC M-C joint) matched on the engine to the test d_h"
+)
 PEAK_FRACTION = 0.999  # a curve's peak is where tau first reaches this fraction of its largest value
 LAW_KEYS = {"uncorrected": "K_st_uncorrected", "corrected": "K_st_corrected", "simplified": "K_st_simplified"}
 
@@ -93,12 +98,12 @@ class Config(Section):
 
 
 def quick_config(config: Config) -> Config:
-    """The config `--quick` runs: the shear ramp and the curve records from `quick`."""
-    stress = config.stress_controlled.model_copy(update={"shear_ramp_steps": config.quick.shear_ramp_steps})
-    velocity = config.constant_velocity.model_copy(
-        update={"record_every_steps": config.quick.velocity_record_every_steps}
-    )
-    return config.model_copy(update={"stress_controlled": stress, "constant_velocity": velocity})
+    """The config `--quick` runs: the shear ramp and the curve records from `quick`, validated again
+    (ValueError if the quick settings break a rule of the config)."""
+    data = config.model_dump()
+    data["stress_controlled"]["shear_ramp_steps"] = config.quick.shear_ramp_steps
+    data["constant_velocity"]["record_every_steps"] = config.quick.velocity_record_every_steps
+    return Config.model_validate(data, strict=False)
 
 
 def load_inputs(config: Config) -> dict[str, pd.DataFrame]:
@@ -133,9 +138,12 @@ class Bench:
         self.density = float(inputs["table2"]["density_kg_per_m3"].iloc[0])
         self.scenes: dict[str, str] = {}
 
-    def law(self, kind: box.ShearLaw, sigma_n: float, shear: dict | None = None) -> dict:
-        shear = shear or box.shear_stiffness_law(kind, sigma_n, self.stiffness)
+    def law(self, shear: dict) -> dict:
+        """The joint law with eq 15's strength, eq 8's K_n and this shear-stiffness entry."""
         return box.joint_law(shear, self.strength, self.stiffness, self.config.joint_options)
+
+    def paper_law(self, kind: box.ShearLaw, sigma_n: float) -> dict:
+        return self.law(box.shear_stiffness_law(kind, sigma_n, self.stiffness))
 
     def stress_test(self, name: str, law: dict, sigma_n: float, tau: float, keep: bool = True) -> box.Outcome:
         c = self.config
@@ -168,7 +176,9 @@ def stress_tests(bench: Bench, loads: pd.DataFrame, progress: Callable[[str], No
         strength = jm.strength_state(np.array([sigma_n]), bench.strength)
         for kind in box.SHEAR_LAWS:
             progress(f"stress-controlled {kind} sigma_n {load.sigma_n_MPa:g} MPa, tau {load.tau_MPa:g} MPa")
-            outcome = bench.stress_test(_label(sigma_n, tau, kind), bench.law(kind, sigma_n), sigma_n, tau)
+            outcome = bench.stress_test(
+                _label(sigma_n, tau, kind), bench.paper_law(kind, sigma_n), sigma_n, tau
+            )
             closed = jm.tangent_displacement(sigma_n, tau, bench.stiffness, LAW_KEYS[kind], floor_fraction)
             law_k = float(state[LAW_KEYS[kind]][0])
             floor = floor_fraction * float(state["K_si"][0])
@@ -195,6 +205,8 @@ def stress_tests(bench: Bench, loads: pd.DataFrame, progress: Callable[[str], No
 
 
 def _reasoning(row: pd.Series, paper: float) -> str:
+    if row["status"] != "holds" and row["tau_over_strength"] <= 1.0:
+        return f"the engine's test ended '{row['status']}' (no d_h); the paper prints {paper:g} mm"
     if row["status"] != "holds":
         return (
             f"tau = {row['tau_MPa']:g} MPa exceeds the eq 15 strength {row['strength_eq15_MPa']:.4f} MPa "
@@ -249,7 +261,7 @@ def velocity_curves(bench: Bench, stresses: np.ndarray, progress: Callable[[str]
         for kind in box.SHEAR_LAWS:
             progress(f"constant-velocity {kind} sigma_n {sigma_n / units.MPa:g} MPa")
             curve = bench.velocity_test(
-                f"velocity_{_label(sigma_n, None, kind)}", bench.law(kind, sigma_n), sigma_n
+                f"velocity_{_label(sigma_n, None, kind)}", bench.paper_law(kind, sigma_n), sigma_n
             )
             frames.append(curve.assign(law=kind, sigma_n_applied_MPa=sigma_n / units.MPa))
     table = pd.concat(frames, ignore_index=True)
@@ -301,11 +313,19 @@ def constant_stiffness_forward(bench: Bench, tests: list[cal.Test]) -> cal.Forwa
         t = tests[index]
         shear = {"law": "constant", "ks_MPa_per_mm": k_s / units.MPa_per_mm}
         name = f"calibration_{_label(t.sigma_n, t.tau, 'constant')}"
-        return bench.stress_test(
-            name, bench.law("corrected", t.sigma_n, shear), t.sigma_n, t.tau, keep=False
-        ).d_h
+        return bench.stress_test(name, bench.law(shear), t.sigma_n, t.tau, keep=False).d_h
 
     return forward
+
+
+def _as_tangent_law(bench: Bench, fit, tests: list[cal.Test]) -> list[float]:
+    """d_h / target at each test of eq 16 with the fitted a, b used as the tangent law it is written
+    as (the integral of d tau / K_st, the engine's floor): does the fitted law give back the targets?"""
+    if fit is None:
+        return []
+    law = dataclasses.replace(bench.stiffness, correction_a=fit.a, correction_b=fit.b)
+    floor = bench.config.joint_options.shear_stiffness_floor
+    return [jm.tangent_displacement(t.sigma_n, t.tau, law, "K_st_corrected", floor) / t.target for t in tests]
 
 
 def calibration(
@@ -358,11 +378,14 @@ def calibration(
         ]
         subset = [t for t, keep in zip(tests, chosen, strict=True) if keep]
         for method, column in (
-            ("engine: one K_s per test matched to the test d_h", "f_calibrated"),
+            (SECANT_METHOD, "f_calibrated"),
             ("no simulation: the paper's corrected K_st solved for f", "f_from_paper_K_st"),
         ):
             f = detail.loc[chosen, column].tolist()
             fit = cal.fit_correction(subset, f)
+            replay = _as_tangent_law(
+                bench, fit, [t for t, v in zip(subset, f, strict=True) if math.isfinite(v)]
+            )
             rows.append(
                 {
                     "fit_set": fit_set.name,
@@ -376,6 +399,8 @@ def calibration(
                     "paper_b": paper_b,
                     "a_minus_paper": (fit.a - paper_a) if fit else math.nan,
                     "b_minus_paper": (fit.b - paper_b) if fit else math.nan,
+                    "tangent_law_d_h_over_target_min": min(replay, default=math.nan),
+                    "tangent_law_d_h_over_target_max": max(replay, default=math.nan),
                 }
             )
     return pd.DataFrame(rows), detail
