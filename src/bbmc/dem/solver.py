@@ -325,10 +325,10 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
     records = [_record(model, state, reference)]
     stopped_by = ""
     while state.step < solver.steps and not stopped_by:
-        chunk = min(every - state.step % every, solver.steps - state.step)
-        advance(model, state, chunk)
+        before = state.step
+        advance(model, state, min(every - state.step % every, solver.steps - state.step))
         if progress:
-            progress(chunk)
+            progress(state.step - before)  # a displacement stop can end a chunk early
         _check_overlap(model, state, warnings)
         records.append(_record(model, state, reference))
         stopped_by = _stop_reason(model, state, reference)
