@@ -82,15 +82,40 @@ def candidate_pairs(world, vertex_start, immobile, margin):
 
 
 @numba.njit(cache=True)
+def _least_overlap(world, vertex_start, vertex_next, a, b):
+    """The least overlap of blocks a and b projected on the normal of any of their edges [m]
+    (separating axes: <= 0 if they are apart). Two convex blocks in contact are pushed into each other
+    along that axis only."""
+    least = math.inf
+    for block in (a, b):
+        for e in range(vertex_start[block], vertex_start[block + 1]):
+            x0, y0, tx, ty, _ = edge_frame(world, vertex_next, e)
+            lo_a, hi_a, lo_b, hi_b = math.inf, -math.inf, math.inf, -math.inf
+            for v in range(vertex_start[a], vertex_start[a + 1]):
+                d = (world[v, 0] - x0) * ty - (world[v, 1] - y0) * tx
+                lo_a, hi_a = min(lo_a, d), max(hi_a, d)
+            for v in range(vertex_start[b], vertex_start[b + 1]):
+                d = (world[v, 0] - x0) * ty - (world[v, 1] - y0) * tx
+                lo_b, hi_b = min(lo_b, d), max(hi_b, d)
+            least = min(least, min(hi_a, hi_b) - max(lo_a, lo_b))
+    return least
+
+
+@numba.njit(cache=True)
 def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, margin):
     """Edge pairs (edge of a, edge of b) of each block pair that face each other: antiparallel within
     the angle tolerance, overlapping in projection, and at the middle of the overlap no farther apart
-    than the margin and no deeper inside each other than a quarter of the smaller block's size.
+    than the margin, and no deeper inside each other than the blocks overlap along their separating
+    axis (plus 1 % of the margin) nor than a quarter of the smaller block's size. The separating-axis
+    bound rejects collinear edges of two blocks that meet corner to corner along a persistent joint:
+    once one has slid past the other's end, their edges overlap in projection by as much as it slid,
+    although the blocks touch only on the joint they slide along.
     Returns int64 (n, 4): edge a, edge b, block a, block b."""
     found = List()
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]
-        depth = 0.25 * min(size[a], size[b])
+        depth = min(0.25 * min(size[a], size[b]), _least_overlap(world, vertex_start, vertex_next, a, b))
+        depth = max(depth, 0.0) + 0.01 * margin
         for ea in range(vertex_start[a], vertex_start[a + 1]):
             ax, ay, tx, ty, la = edge_frame(world, vertex_next, ea)
             for eb in range(vertex_start[b], vertex_start[b + 1]):
