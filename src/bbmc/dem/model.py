@@ -16,7 +16,7 @@ from bbmc import laws, units
 from bbmc.config import ConfigError
 from bbmc.dem import layout as L
 from bbmc.dem import polygons
-from bbmc.dem.scene import BartonBandisLaw, BlockEntry, ConstantLaw, Monitor, Scene
+from bbmc.dem.scene import BartonBandisLaw, BlockEntry, ConstantLaw, JointedSlope, Monitor, Scene
 from bbmc.joint_model import SIGMA_REF
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
@@ -81,18 +81,47 @@ class Model:
         return int(max([*ends, *self.blocks[:, L.VSTART]], default=0))
 
 
+SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope")
+
+
 def _error(path: Path, key: str, message: str) -> ConfigError:
     return ConfigError(f"{path}: key '{key}': {message}")
 
 
-def _shapes(entry: BlockEntry) -> list[np.ndarray]:
+def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]]]:
+    """The slope's blocks, and the degrees of freedom held for each: all three for a block with an
+    edge on a fixed boundary (a corner touching it is not enough)."""
+    dump = slope.model_dump()
+    shapes = polygons.jointed_slope(**{k: v for k, v in dump.items() if k != "fixed_boundaries"})
+    x_left, x_right, y_bottom, _ = polygons.slope_bounds(
+        slope.height_m, slope.face_angle_deg, slope.crest_extent_m, slope.toe_extent_m, slope.depth_m
+    )
+    tolerance = 1e-6 * (x_right - x_left)
+    sides = {
+        "left": lambda v: v[:, 0] <= x_left + tolerance,
+        "right": lambda v: v[:, 0] >= x_right - tolerance,
+        "bottom": lambda v: v[:, 1] <= y_bottom + tolerance,
+    }
+    held = [
+        ["x", "y", "rotation"] if any(sides[side](s).sum() >= 2 for side in slope.fixed_boundaries) else []
+        for s in shapes
+    ]
+    return shapes, held
+
+
+def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
+    """The entry's blocks (counter-clockwise, turned as asked) and the degrees of freedom held for each."""
     if entry.polygon_m is not None:
         shapes = [np.array(entry.polygon_m, dtype=float)]
     elif entry.rectangle_m is not None:
         r = entry.rectangle_m
         shapes = [polygons.rectangle(r.x_m, r.y_m, r.width_m, r.height_m)]
-    else:
+    elif entry.brick_wall is not None:
         shapes = polygons.GENERATORS["brick_wall"](**entry.brick_wall.model_dump())
+    else:
+        shapes, held = _slope_blocks(entry.jointed_slope)
+    if entry.jointed_slope is None:
+        held = [[] for _ in shapes]
     shapes = [polygons.counter_clockwise(s) for s in shapes]
     if entry.rotate_deg:
         turned = []
@@ -100,7 +129,7 @@ def _shapes(entry: BlockEntry) -> list[np.ndarray]:
             about = np.array(entry.rotate_about_m) if entry.rotate_about_m else polygons.mass_properties(s)[1]
             turned.append(polygons.rotated(s, entry.rotate_deg * units.deg, about))
         shapes = turned
-    return shapes
+    return shapes, [sorted(set(h) | set(entry.fix)) for h in held]
 
 
 def _joint_law_row(law: ConstantLaw | BartonBandisLaw) -> tuple[list[int], np.ndarray]:
@@ -157,22 +186,25 @@ def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> 
 
 def build_model(scene: Scene, path: Path) -> Model:
     """Check every reference of the scene and assemble the engine's arrays."""
-    names, groups, shapes, entries = [], [], [], []
+    names, groups, shapes, entries, fixed = [], [], [], [], []
     for i, entry in enumerate(scene.blocks):
         key = f"blocks.{i}"
         if entry.material not in scene.materials:
             raise _error(path, f"{key}.material", f"no material '{entry.material}' in materials")
         if set(entry.fix) & set(_velocity_dofs(entry)):
             raise _error(path, f"{key}.velocity", "a degree of freedom is both fixed and prescribed")
-        family = entry.brick_wall is not None
-        for k, shape in enumerate(_shapes(entry)):
+        family = entry.brick_wall is not None or entry.jointed_slope is not None
+        shapes_of_entry, held = _shapes(entry)
+        for k, shape in enumerate(shapes_of_entry):
             fault = polygons.convexity_fault(shape)
             if fault:
-                raise _error(path, f"{key}.polygon_m", fault)
+                shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
+                raise _error(path, f"{key}.{shape_key}", f"block {k}: {fault}" if family else fault)
             names.append(f"{entry.name}.{k}" if family else entry.name)
             groups.append(entry.group or entry.name)
             shapes.append(shape)
             entries.append(entry)
+            fixed.append(held[k])
     seen: dict[str, int] = {}
     for i, name in enumerate(names):
         if name in seen:
@@ -189,7 +221,7 @@ def build_model(scene: Scene, path: Path) -> Model:
     vertex_block = np.repeat(np.arange(n), counts).astype(np.int64)
     vertex_next = np.empty(vertex_start[-1], dtype=np.int64)
     local = np.empty((vertex_start[-1], 2))
-    for i, (shape, entry) in enumerate(zip(shapes, entries, strict=True)):
+    for i, (shape, entry, held) in enumerate(zip(shapes, entries, fixed, strict=True)):
         area, centroid, polar = polygons.mass_properties(shape)
         density = scene.materials[entry.material].density_kg_m3
         first, last = vertex_start[i], vertex_start[i + 1]
@@ -203,7 +235,7 @@ def build_model(scene: Scene, path: Path) -> Model:
         row[L.RADIUS] = float(np.max(np.hypot(*(shape - centroid).T)))
         row[L.SIZE] = math.sqrt(area)
         for d, axis in enumerate(("x", "y", "rotation")):
-            if axis in entry.fix:
+            if axis in held:
                 dof[i, d] = L.PRESCRIBED
         velocity = entry.velocity
         for d, value in enumerate(

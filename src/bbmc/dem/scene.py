@@ -50,6 +50,38 @@ class BrickWall(Section):
     row_offset: Annotated[float, Field(ge=0, lt=1)] = 0.0
 
 
+class JointSet(Section):
+    """A persistent set of parallel joints, as a geologist gives it."""
+
+    dip_deg: Annotated[float, Field(ge=0, le=90)]
+    dip_direction_to_face_deg: Annotated[float, Field(ge=0, le=180)] = (
+        0.0  # 0: out of the slope; 180: into it
+    )
+    spacing_m: Positive  # true spacing, normal to the joints
+    offset_m: float = 0.0  # of the first joint from the toe, normal to the joints (0: one passes through it)
+
+    @model_validator(mode="after")
+    def _has_trace(self) -> JointSet:
+        if self.dip_deg == 90 and self.dip_direction_to_face_deg == 90:
+            raise ValueError("a vertical set striking across the face is parallel to the section: no trace")
+        return self
+
+
+class JointedSlope(Section):
+    """A slope (free face towards -x, toe at the origin) cut into convex blocks by joint sets."""
+
+    height_m: Positive
+    face_angle_deg: Annotated[float, Field(gt=0, le=90)]
+    crest_extent_m: NonNegative  # flat top behind the crest
+    toe_extent_m: NonNegative  # flat ground in front of the toe
+    depth_m: NonNegative  # below the toe (0: the model's base is at the toe's level)
+    joint_sets: Annotated[list[JointSet], Field(min_length=1, max_length=4)]
+    min_block_fraction: Annotated[float, Field(ge=0, lt=1)] = 0.02  # slivers below this x median are dropped
+    fixed_boundaries: list[Literal["left", "right", "bottom"]] = Field(
+        default_factory=lambda: ["right", "bottom"]
+    )  # blocks with an edge on these sides of the model have every degree of freedom held
+
+
 class Velocity(Section):
     """A prescribed velocity for the degrees of freedom given (the others stay free)."""
 
@@ -60,7 +92,8 @@ class Velocity(Section):
 
 
 class BlockEntry(Section):
-    """One block (polygon_m or rectangle_m) or a family of blocks from a generator (brick_wall)."""
+    """One block (polygon_m or rectangle_m) or a family of blocks from a generator (brick_wall,
+    jointed_slope)."""
 
     name: Annotated[str, Field(min_length=1, pattern=r"^[^.\s]+$")]
     material: str
@@ -68,6 +101,7 @@ class BlockEntry(Section):
     polygon_m: Annotated[list[Pair], Field(min_length=3)] | None = None
     rectangle_m: Rectangle | None = None
     brick_wall: BrickWall | None = None
+    jointed_slope: JointedSlope | None = None
     rotate_deg: float = 0.0  # counter-clockwise, about rotate_about_m [default: the centroid]
     rotate_about_m: Pair | None = None
     fix: list[Dof] = Field(default_factory=list)
@@ -75,7 +109,7 @@ class BlockEntry(Section):
 
     @model_validator(mode="after")
     def _one_shape(self) -> BlockEntry:
-        _exactly_one(self, ("polygon_m", "rectangle_m", "brick_wall"), "shape")
+        _exactly_one(self, ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope"), "shape")
         return self
 
 

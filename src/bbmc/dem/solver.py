@@ -313,16 +313,24 @@ def advance(model: Model, state: State, n_steps: int) -> None:
         _note_time_step(state)
 
 
-def simulate(model: Model, progress: Callable[[int], None] | None = None) -> RunResult:
+def simulate(
+    model: Model,
+    progress: Callable[[int], None] | None = None,
+    on_record: Callable[[State], None] | None = None,
+) -> RunResult:
     """Run the scene: `solver.steps` cycles, or fewer if the stop condition is met.
 
-    `progress(n)` is called with the number of cycles done since its last call.
+    `progress(n)` is called with the number of cycles done since its last call; `on_record(state)` at
+    step 0 and at every record step, for callers that keep more than the monitors (it must not change
+    the state).
     """
     solver, warnings = model.scene.solver, []
     state = prepare(model)
     reference = mon.reference_force(model)
     every = model.scene.monitoring.every_steps
     records = [_record(model, state, reference)]
+    if on_record:
+        on_record(state)
     stopped_by = ""
     while state.step < solver.steps and not stopped_by:
         before = state.step
@@ -331,6 +339,8 @@ def simulate(model: Model, progress: Callable[[int], None] | None = None) -> Run
             progress(state.step - before)  # a displacement stop can end a chunk early
         _check_overlap(model, state, warnings)
         records.append(_record(model, state, reference))
+        if on_record:
+            on_record(state)
         stopped_by = _stop_reason(model, state, reference)
     return RunResult(
         history=pd.DataFrame(records),
