@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: reproduce test test-slow bench lint fit mc audit shear clean
+.PHONY: reproduce test test-slow bench lint fit mc audit shear slope clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-reproduce: fit mc audit shear
+reproduce: fit mc audit shear slope
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -25,6 +25,9 @@ audit: $(STAMP)
 
 shear: $(STAMP)
 	$(BIN)/bbmc shear --config configs/shear.yaml
+
+slope: $(STAMP)
+	$(BIN)/bbmc slope --config configs/slope.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q
@@ -40,4 +43,4 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check src tests
 
 clean:
-	rm -rf results/fit results/mc results/audit results/shear results/shear-quick results/bench
+	rm -rf results/fit results/mc results/audit results/shear results/shear-quick results/slope results/bench

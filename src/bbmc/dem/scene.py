@@ -252,15 +252,16 @@ class Stop(Section):
     """Stop once the loads act in full (and prescribed velocities have started) and the unbalanced
     force ratio (max unbalanced force / max applied force) is below `unbalanced_force_ratio`, or once
     a block that can move has moved further than `displacement_m` from where it started; whichever
-    comes first."""
+    comes first; or once the run has lasted `time_s` of physical time (checked at record steps)."""
 
     unbalanced_force_ratio: Positive | None = None
     displacement_m: Positive | None = None
+    time_s: Positive | None = None
 
     @model_validator(mode="after")
     def _one_given(self) -> Stop:
-        if self.unbalanced_force_ratio is None and self.displacement_m is None:
-            raise ValueError("give unbalanced_force_ratio and/or displacement_m")
+        if self.unbalanced_force_ratio is None and self.displacement_m is None and self.time_s is None:
+            raise ValueError("give unbalanced_force_ratio, displacement_m and/or time_s")
         return self
 
 

@@ -352,7 +352,7 @@ def simulate(
     )
 
 
-STOP_REASONS = ("equilibrium", "displacement")
+STOP_REASONS = ("equilibrium", "displacement", "time")
 
 
 def _moved_beyond_stop(model: Model, state: State) -> bool:
@@ -375,6 +375,8 @@ def _stop_reason(model: Model, state: State, reference: float) -> str:
         return ""
     if _moved_beyond_stop(model, state):
         return "displacement"
+    if stop.time_s is not None and state.clock[L.TIME] >= stop.time_s:
+        return "time"
     if (
         stop.unbalanced_force_ratio is not None
         and state.step >= model.loads_applied_step
