@@ -111,16 +111,16 @@ def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]
 
 def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
     """The entry's blocks (counter-clockwise, turned as asked) and the degrees of freedom held for each."""
-    if entry.polygon_m is not None:
-        shapes = [np.array(entry.polygon_m, dtype=float)]
-    elif entry.rectangle_m is not None:
-        r = entry.rectangle_m
-        shapes = [polygons.rectangle(r.x_m, r.y_m, r.width_m, r.height_m)]
-    elif entry.brick_wall is not None:
-        shapes = polygons.GENERATORS["brick_wall"](**entry.brick_wall.model_dump())
-    else:
+    if entry.jointed_slope is not None:
         shapes, held = _slope_blocks(entry.jointed_slope)
-    if entry.jointed_slope is None:
+    else:
+        if entry.polygon_m is not None:
+            shapes = [np.array(entry.polygon_m, dtype=float)]
+        elif entry.rectangle_m is not None:
+            r = entry.rectangle_m
+            shapes = [polygons.rectangle(r.x_m, r.y_m, r.width_m, r.height_m)]
+        else:
+            shapes = polygons.GENERATORS["brick_wall"](**entry.brick_wall.model_dump())
         held = [[] for _ in shapes]
     shapes = [polygons.counter_clockwise(s) for s in shapes]
     if entry.rotate_deg:

@@ -107,14 +107,14 @@ def _without_repeats(vertices: np.ndarray, tolerance: float = 1e-9) -> np.ndarra
     """Drop vertices that repeat their predecessor, or lie on the line through their neighbours."""
     if len(vertices) < 3:
         return vertices
-    scale = tolerance * max(1.0, float(np.ptp(vertices, axis=0).max()))
+    span = max(1.0, float(np.ptp(vertices, axis=0).max()))
     step = vertices - np.roll(vertices, 1, axis=0)
-    vertices = vertices[np.hypot(step[:, 0], step[:, 1]) > scale]
+    vertices = vertices[np.hypot(step[:, 0], step[:, 1]) > tolerance * span]
     if len(vertices) < 3:
         return vertices
     before, after = np.roll(vertices, 1, axis=0) - vertices, np.roll(vertices, -1, axis=0) - vertices
     turn = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
-    return vertices[np.abs(turn) > scale * max(1.0, float(np.ptp(vertices, axis=0).max()))]
+    return vertices[np.abs(turn) > tolerance * span * span]
 
 
 def joint_set_trace(dip_deg: float, dip_direction_to_face_deg: float) -> np.ndarray:
@@ -224,7 +224,4 @@ def jointed_slope(
     return [p for p, a in zip(pieces, areas, strict=True) if a >= min_block_fraction * np.median(areas)]
 
 
-GENERATORS: dict[str, Callable[..., list[np.ndarray]]] = {
-    "brick_wall": brick_wall,
-    "jointed_slope": jointed_slope,
-}
+GENERATORS: dict[str, Callable[..., list[np.ndarray]]] = {"brick_wall": brick_wall}

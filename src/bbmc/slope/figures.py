@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 
 from bbmc import plots  # noqa: F401  (selects the Agg backend before any figure is drawn)
 from bbmc.dem import layout as L
+from bbmc.dem import polygons
 from bbmc.dem.model import Model
 from bbmc.dem.scene import JointedSlope
 
@@ -64,11 +65,8 @@ def fig7(model: Model, numbering: dict[int, int], slope: JointedSlope, dpi: int)
         ax.annotate(
             f"No. {n}", model.blocks[b, [L.X, L.Y]], ha="center", va="center", fontsize=9, weight="bold"
         )
-    x_left, x_right, y_bottom, top = (
-        min(model.local[:, 0].min() + model.blocks[:, L.X].min(), 0.0),
-        float((model.local[:, 0] + model.blocks[model.vertex_block, L.X]).max()),
-        float((model.local[:, 1] + model.blocks[model.vertex_block, L.Y]).min()),
-        slope.height_m,
+    x_left, x_right, y_bottom, top = polygons.slope_bounds(
+        slope.height_m, slope.face_angle_deg, slope.crest_extent_m, slope.toe_extent_m, slope.depth_m
     )
     for side, xs, ys in (
         ("right", [x_right, x_right], [y_bottom, top]),

@@ -121,7 +121,6 @@ def slope_scene(
     density_kg_m3: float,
     law: dict,
     run: Run,
-    steps: int,
     monitors: list[dict],
 ) -> dict:
     """The scene of one slope run: the jointed slope under gravity, every joint with `law`."""
@@ -133,7 +132,7 @@ def slope_scene(
         "joint_laws": {"joint": law},
         "contacts": {"default_law": "joint", "sub_contacts_per_edge": run.sub_contacts_per_edge},
         "solver": {
-            "steps": steps,
+            "steps": run.max_steps,
             "damping": run.damping,
             "time_step": {"mode": "auto", "safety_factor": run.safety_factor},
             "update_interval_steps": run.update_interval_steps,
@@ -170,7 +169,7 @@ def paper_numbering(layer: list[int]) -> dict[int, int]:
     return {2: layer[0], 1: layer[round(last / 3)], 4: layer[round(2 * last / 3)], 3: layer[last]}
 
 
-def monitored_joints(model: Model, block: int, geometry: JointedSlope) -> dict[str, list[float]]:
+def monitored_joints(model: Model, block: int) -> dict[str, list[float]]:
     """Points on the near-horizontal joint under `block` (the sliding plane) and on the near-vertical
     joint behind it (up-dip), at the middle of the block's edges on them [m]."""
     shape = block_shape(model, block)

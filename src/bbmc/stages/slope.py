@@ -145,11 +145,10 @@ def _model(
     table4: sm.Table4,
     kind: sm.JointModel,
     slope: JointedSlope,
-    steps: int,
     monitors: list[dict],
 ) -> Model:
     law = sm.joint_law(kind, table4, config.constant, config.barton_bandis)
-    scene = sm.slope_scene(f"slope_{kind}", slope, table4.density_kg_m3, law, config.run, steps, monitors)
+    scene = sm.slope_scene(f"slope_{kind}", slope, table4.density_kg_m3, law, config.run, monitors)
     return build_model(Scene.model_validate(scene, strict=False), Path(f"slope_{kind}.yaml"))
 
 
@@ -162,19 +161,18 @@ def run_slope(
     progress: Callable[[int], None] | None = None,
 ) -> SlopeRun:
     """Run one joint model on one slope for run.duration_s of physical time."""
-    probe = _model(config, table4, kind, slope, 1, [])
+    probe = _model(config, table4, kind, slope, [])
     layer = sm.sliding_layer(probe, slope)
     numbering = sm.paper_numbering(layer) if monitor_joints else {2: layer[0]}
-    steps = config.run.max_steps
     monitors = []
     if monitor_joints:
-        points = sm.monitored_joints(probe, numbering[2], slope)
+        points = sm.monitored_joints(probe, numbering[2])
         monitors = [
             {"name": f"{joint}_{q}", "near_m": point, "quantity": q}
             for joint, point in points.items()
             for q in ("sigma_n", "tau", "kn", "ks", "cohesion", "friction")
         ]
-    return SlopeRun(_model(config, table4, kind, slope, steps, monitors), numbering, progress)
+    return SlopeRun(_model(config, table4, kind, slope, monitors), numbering, progress)
 
 
 CLAIMS = (
