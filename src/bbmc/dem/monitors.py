@@ -7,12 +7,17 @@ cohesion kPa, stiffness MPa/mm, energies J (for the scene's thickness).
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
+import numba
 import numpy as np
 import pandas as pd
 
 from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, MonitorSpec
+from bbmc.dem.scene import JOINT_QUANTITIES
 
 UNITS = {
     "ux": ("mm", 1 / units.mm),
@@ -42,6 +47,7 @@ SUB_COLUMN = {
     "us": L.US,
     "un": L.UN,
 }
+FRICTION = -1  # joint_values' code for the friction angle, read from tan(phi)
 
 
 def column_name(spec: MonitorSpec) -> str:
@@ -86,56 +92,112 @@ def strain_energy(subs: np.ndarray) -> float:
     return float(np.sum(s[:, L.LENGTH] * (normal + shear)))
 
 
-def _joint_value(
-    spec: MonitorSpec, model: Model, contacts: np.ndarray, subs: np.ndarray, n_sub: int
-) -> float:
-    active = subs[:, L.LENGTH] > 0
-    if spec.groups is not None:
-        ga = np.repeat(model.block_group[contacts[:, L.BLOCK_A]], n_sub)
-        gb = np.repeat(model.block_group[contacts[:, L.BLOCK_B]], n_sub)
-        g1, g2 = spec.groups
-        chosen = active & (((ga == g1) & (gb == g2)) | ((ga == g2) & (gb == g1)))
-    else:
-        distance = np.hypot(subs[:, L.CX] - spec.near[0], subs[:, L.CY] - spec.near[1])
-        distance[~active] = np.inf
-        chosen = np.zeros(len(subs), dtype=bool)
-        if active.any():
-            chosen[int(np.argmin(distance))] = True
-    if not chosen.any():
-        return np.nan
-    weights = subs[chosen, L.LENGTH]
-    if spec.quantity == "friction":
-        values = np.degrees(np.arctan(subs[chosen, L.TANPHI]))
-    else:
-        values = subs[chosen, SUB_COLUMN[spec.quantity]]
-    return float(np.average(values, weights=weights))
+@numba.njit(cache=True)
+def _sub_value(subs, s, column):
+    if column == FRICTION:
+        return math.degrees(math.atan(subs[s, L.TANPHI]))
+    return subs[s, column]
 
 
-def monitor_value(spec: MonitorSpec, model: Model, state, reference_force: float) -> float:
-    """The value of one monitor now, in the units of `UNITS`."""
-    b, q, scale = state.blocks, spec.quantity, UNITS[spec.quantity][1]
+@numba.njit(cache=True)
+def joint_values(contacts, subs, n_sub, block_group, column, groups, near, out):
+    """Every joint monitor in one pass over the sub-contacts: monitor m reads sub-contact column
+    `column[m]` (FRICTION: the friction angle [deg]) as the length-weighted mean over the active
+    sub-contacts between groups[m] (when groups[m, 0] >= 0), or at the active sub-contact nearest
+    near[m] (the first of equals); nan where none is active. SI units, as the engine's arrays."""
+    for m in range(column.size):
+        if groups[m, 0] >= 0:
+            total, weight = 0.0, 0.0
+            for c in range(contacts.shape[0]):
+                ga, gb = block_group[contacts[c, L.BLOCK_A]], block_group[contacts[c, L.BLOCK_B]]
+                if not (
+                    (ga == groups[m, 0] and gb == groups[m, 1]) or (ga == groups[m, 1] and gb == groups[m, 0])
+                ):
+                    continue
+                for s in range(c * n_sub, (c + 1) * n_sub):
+                    if subs[s, L.LENGTH] > 0.0:
+                        total += subs[s, L.LENGTH] * _sub_value(subs, s, column[m])
+                        weight += subs[s, L.LENGTH]
+            out[m] = total / weight if weight > 0.0 else math.nan
+        else:
+            nearest, closest = -1, math.inf
+            for s in range(subs.shape[0]):
+                if subs[s, L.LENGTH] > 0.0:
+                    distance = math.hypot(subs[s, L.CX] - near[m, 0], subs[s, L.CY] - near[m, 1])
+                    if distance < closest:
+                        nearest, closest = s, distance
+            out[m] = _sub_value(subs, nearest, column[m]) if nearest >= 0 else math.nan
+
+
+@dataclass(frozen=True)
+class JointMonitors:
+    """The joint monitors of a model as the arrays `joint_values` reads, and their places in the list
+    of monitors."""
+
+    index: list[int]
+    column: np.ndarray
+    groups: np.ndarray
+    near: np.ndarray
+
+    @classmethod
+    def of(cls, model: Model) -> JointMonitors:
+        chosen = [i for i, spec in enumerate(model.monitors) if spec.quantity in JOINT_QUANTITIES]
+        specs = [model.monitors[i] for i in chosen]
+        return cls(
+            index=chosen,
+            column=np.array([SUB_COLUMN.get(s.quantity, FRICTION) for s in specs], dtype=np.int64),
+            groups=np.array([s.groups or (-1, -1) for s in specs], dtype=np.int64).reshape(-1, 2),
+            near=np.array([s.near if s.near is not None else (0.0, 0.0) for s in specs]).reshape(-1, 2),
+        )
+
+
+def monitor_values(model: Model, state, reference_force: float, joints: JointMonitors) -> list[float]:
+    """Every monitor's value now, in the units of `UNITS`, in the order of the model's monitors."""
+    values = [0.0] * len(model.monitors)
+    if joints.index:
+        out = np.empty(len(joints.index))
+        joint_values(
+            state.contacts,
+            state.subs,
+            state.n_sub,
+            model.block_group,
+            joints.column,
+            joints.groups,
+            joints.near,
+            out,
+        )
+        for i, value in zip(joints.index, out, strict=True):
+            values[i] = float(value)
+    for i, spec in enumerate(model.monitors):
+        value = (
+            values[i]
+            if spec.quantity in JOINT_QUANTITIES
+            else _block_or_system_value(spec, model, state, reference_force)
+        )
+        values[i] = value * UNITS[spec.quantity][1]
+    return values
+
+
+def _block_or_system_value(spec: MonitorSpec, model: Model, state, reference_force: float) -> float:
+    b, q = state.blocks, spec.quantity
     thickness = model.scene.thickness_m
     if q in ("ux", "uy"):
         if spec.point is not None:
             u = point_displacement(b, spec.block, spec.point)
         else:
             u = b[spec.block, [L.X, L.Y]] - b[spec.block, [L.X0, L.Y0]]
-        value = u[0] if q == "ux" else u[1]
-    elif q in ("vx", "vy"):
-        value = b[spec.block, L.VX if q == "vx" else L.VY]
-    elif q == "rotation":
-        value = b[spec.block, L.TH]
-    elif q == "kinetic_energy":
-        value = thickness * kinetic_energy(b)
-    elif q == "potential_energy":
-        value = thickness * potential_energy(b, model.gravity, state.clock[L.DT] if state.step else 0.0)
-    elif q == "strain_energy":
-        value = thickness * strain_energy(state.subs)
-    elif q == "unbalanced_force_ratio":
-        value = unbalanced_force_ratio(state, reference_force)
-    else:
-        value = _joint_value(spec, model, state.contacts, state.subs, state.n_sub)
-    return value * scale
+        return u[0] if q == "ux" else u[1]
+    if q in ("vx", "vy"):
+        return b[spec.block, L.VX if q == "vx" else L.VY]
+    if q == "rotation":
+        return b[spec.block, L.TH]
+    if q == "kinetic_energy":
+        return thickness * kinetic_energy(b)
+    if q == "potential_energy":
+        return thickness * potential_energy(b, model.gravity, state.clock[L.DT] if state.step else 0.0)
+    if q == "strain_energy":
+        return thickness * strain_energy(state.subs)
+    return unbalanced_force_ratio(state, reference_force)
 
 
 def reference_force(model: Model) -> float:

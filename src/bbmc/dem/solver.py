@@ -327,8 +327,9 @@ def simulate(
     solver, warnings = model.scene.solver, []
     state = prepare(model)
     reference = mon.reference_force(model)
+    joints = mon.JointMonitors.of(model)
     every = model.scene.monitoring.every_steps
-    records = [_record(model, state, reference)]
+    records = [_record(model, state, reference, joints)]
     if on_record:
         on_record(state)
     stopped_by = ""
@@ -338,7 +339,7 @@ def simulate(
         if progress:
             progress(state.step - before)  # a displacement stop can end a chunk early
         _check_overlap(model, state, warnings)
-        records.append(_record(model, state, reference))
+        records.append(_record(model, state, reference, joints))
         if on_record:
             on_record(state)
         stopped_by = _stop_reason(model, state, reference)
@@ -386,10 +387,10 @@ def _stop_reason(model: Model, state: State, reference: float) -> str:
     return ""
 
 
-def _record(model: Model, state: State, reference: float) -> dict[str, float]:
+def _record(model: Model, state: State, reference: float, joints: mon.JointMonitors) -> dict[str, float]:
     row = {"step": state.step, "time_s": state.clock[L.TIME]}
-    for spec in model.monitors:
-        row[mon.column_name(spec)] = mon.monitor_value(spec, model, state, reference)
+    values = mon.monitor_values(model, state, reference, joints)
+    row.update(zip((mon.column_name(spec) for spec in model.monitors), values, strict=True))
     return row
 
 
