@@ -102,7 +102,14 @@ def _least_overlap(world, vertex_start, vertex_next, a, b):
 
 
 @numba.njit(cache=True)
-def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, margin):
+def _depth_bound(world, vertex_start, vertex_next, size, margin, a, b):
+    """How deep two edges of blocks a and b may be inside each other and still be a contact [m]."""
+    depth = min(0.25 * min(size[a], size[b]), _least_overlap(world, vertex_start, vertex_next, a, b))
+    return max(depth, 0.0) + 0.01 * margin
+
+
+@numba.njit(cache=True)
+def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, margin, bound_when_needed):
     """Edge pairs (edge of a, edge of b) of each block pair that face each other: antiparallel within
     the angle tolerance, overlapping in projection, and at the middle of the overlap no farther apart
     than the margin, and no deeper inside each other than the blocks overlap along their separating
@@ -110,12 +117,15 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, m
     bound rejects collinear edges of two blocks that meet corner to corner along a persistent joint:
     once one has slid past the other's end, their edges overlap in projection by as much as it slid,
     although the blocks touch only on the joint they slide along.
+    `bound_when_needed`: compute that bound only for a pair with an edge pair deeper than 1 % of the
+    margin (no shallower one can fail it), else for every pair.
     Returns int64 (n, 4): edge a, edge b, block a, block b."""
     found = List()
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]
-        depth = min(0.25 * min(size[a], size[b]), _least_overlap(world, vertex_start, vertex_next, a, b))
-        depth = max(depth, 0.0) + 0.01 * margin
+        depth = -1.0
+        if not bound_when_needed:
+            depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
         for ea in range(vertex_start[a], vertex_start[a + 1]):
             ax, ay, tx, ty, la = edge_frame(world, vertex_next, ea)
             for eb in range(vertex_start[b], vertex_start[b + 1]):
@@ -131,8 +141,13 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, m
                 mid = 0.5 * (lo + hi)
                 px, py = ax + mid * tx, ay + mid * ty
                 gap = -((px - bx) * uy - (py - by) * ux) / facing
-                if gap > margin or gap < -depth or not math.isfinite(gap):
+                if gap > margin or not math.isfinite(gap):
                     continue
+                if gap < -0.01 * margin:
+                    if depth < 0.0:
+                        depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
+                    if gap < -depth:
+                        continue
                 found.append((ea, eb, a, b))
     out = np.empty((len(found), 4), dtype=np.int64)
     for k in range(len(found)):

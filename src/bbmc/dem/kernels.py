@@ -50,6 +50,8 @@ from bbmc.dem.layout import (
     JOINT_TYPE,
     KN,
     KS,
+    LAW_SN,
+    LAW_TAU,
     LENGTH,
     MASS,
     MW,
@@ -133,13 +135,15 @@ DONE, SEARCH_NEEDED, STEP_ABOVE_CRITICAL = 0, 1, 2
 
 
 @numba.njit(cache=True)
-def update_vertices(blocks, vertex_block, local, world):
-    """World coordinates of every vertex from its block's centroid and rotation [m]."""
-    for v in range(local.shape[0]):
-        b = vertex_block[v]
+def update_vertices(blocks, vertex_start, local, world, moving):
+    """World coordinates of the vertices of every `moving` block from its centroid and rotation [m]."""
+    for b in range(blocks.shape[0]):
+        if not moving[b]:
+            continue
         c, s = math.cos(blocks[b, TH]), math.sin(blocks[b, TH])
-        world[v, 0] = blocks[b, X] + c * local[v, 0] - s * local[v, 1]
-        world[v, 1] = blocks[b, Y] + s * local[v, 0] + c * local[v, 1]
+        for v in range(vertex_start[b], vertex_start[b + 1]):
+            world[v, 0] = blocks[b, X] + c * local[v, 0] - s * local[v, 1]
+            world[v, 1] = blocks[b, Y] + s * local[v, 0] + c * local[v, 1]
 
 
 @numba.njit(cache=True)
@@ -169,6 +173,7 @@ def _sub_contact_law(subs, s, un, dus, after_slip):
             subs[s, TEN] = 0.0
             subs[s, COH] = 0.0
             subs[s, SLIPPED] = 1.0
+            subs[s, LAW_SN] = math.nan
             subs[s, UN] = un
             subs[s, US] += dus
             return
@@ -185,6 +190,7 @@ def _sub_contact_law(subs, s, un, dus, after_slip):
         tau = math.copysign(strength, tau)
         if subs[s, SLIPPED] == 0.0:
             subs[s, SLIPPED] = 1.0
+            subs[s, LAW_SN] = math.nan
             if after_slip == AFTER_SLIP_ZERO:
                 subs[s, COH] = 0.0
                 subs[s, TEN] = 0.0
@@ -297,11 +303,14 @@ def _advance(force, velocity, mass, damping, dt):
 
 
 @numba.njit(cache=True)
-def move_blocks(blocks, dof, damping, dt, step):
-    """New velocities and positions; returns the largest movement since the last contact search [m]
-    (translation plus radius times rotation). Prescribed dofs are held until their start step."""
+def move_blocks(blocks, dof, damping, dt, step, moving):
+    """New velocities and positions of the `moving` blocks; returns the largest movement since the last
+    contact search [m] (translation plus radius times rotation). Prescribed dofs are held until their
+    start step."""
     largest = 0.0
     for i in range(blocks.shape[0]):
+        if not moving[i]:
+            continue
         for d, v, f, m, vp, pv in (
             (0, VX, FX, MX, VPX, PVX),
             (1, VY, FY, MY, VPY, PVY),
@@ -341,8 +350,11 @@ def _shear_stiffness(law, sigma, tau, p):
 
 
 @numba.njit(cache=True)
-def update_joint_laws(contacts, subs, n_sub, laws, params):
+def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
     """Re-evaluate K_n, K_s, c and phi of every sub-contact of a stress-dependent joint type.
+
+    `changed_only`: skip a sub-contact whose sigma_n and tau are those of its last evaluation (an open
+    one stays at 0, 0) and that has not slipped or failed since: the laws would give the same values.
 
     Stiffness laws are evaluated at max(sigma_n, stress floor), so an open or barely closed joint keeps
     a usable stiffness (the laws give 0 at sigma_n = 0, and a joint with K_n = 0 could never close);
@@ -354,6 +366,10 @@ def update_joint_laws(contacts, subs, n_sub, laws, params):
         p = params[j]
         for s in range(c * n_sub, (c + 1) * n_sub):
             sigma = subs[s, SN]
+            if changed_only and sigma == subs[s, LAW_SN] and subs[s, TAU] == subs[s, LAW_TAU]:
+                continue
+            subs[s, LAW_SN] = sigma
+            subs[s, LAW_TAU] = subs[s, TAU]
             floored = max(sigma, p[P_STRESS_FLOOR])
             if laws[j, NORMAL_LAW] == NORMAL_EQ8:
                 subs[s, KN] = normal_stiffness(floored, p[P_Q], p[P_LG_E])
@@ -379,6 +395,7 @@ def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
         j = contacts[c, JOINT_TYPE]
         for s in range(c * n_sub, (c + 1) * n_sub):
             subs[s, :] = 0.0
+            subs[s, LAW_SN] = math.nan
             subs[s, KN] = params[j, P_KN]
             subs[s, KS] = params[j, P_KS]
             subs[s, TANPHI] = math.tan(params[j, P_PHI])
@@ -468,6 +485,7 @@ def cycle(
     clock,
     blocks,
     dof,
+    vertex_start,
     vertex_block,
     vertex_next,
     local,
@@ -479,6 +497,8 @@ def cycle(
     params,
     variable_laws,
     update_interval,
+    changed_laws_only,
+    moving,
     gravity,
     block_loads,
     load_block,
@@ -495,11 +515,12 @@ def cycle(
 
     time_step_mode: 0 automatic (safety x critical, recomputed after each law update), 1 fixed (the
     run stops with STEP_ABOVE_CRITICAL once the fixed step exceeds the critical one), 2 density
-    scaling (fixed step, inertial masses rescaled after each law update).
+    scaling (fixed step, inertial masses rescaled after each law update). `changed_laws_only` and
+    `moving`: see `update_joint_laws` and `move_blocks`.
     """
     for done in range(n_steps):
         if variable_laws and clock[SINCE_UPDATE] >= update_interval:
-            update_joint_laws(contacts, subs, n_sub, laws, params)
+            update_joint_laws(contacts, subs, n_sub, laws, params, changed_laws_only)
             clock[SINCE_UPDATE] = 0.0
             status = set_time_step(
                 clock,
@@ -530,8 +551,8 @@ def cycle(
             clock[STEP],
         )
         contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, cos_tolerance, dt)
-        moved = move_blocks(blocks, dof, damping, dt, clock[STEP])
-        update_vertices(blocks, vertex_block, local, world)
+        moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving)
+        update_vertices(blocks, vertex_start, local, world, moving)
         clock[STEP] += 1.0
         clock[TIME] += dt
         clock[SINCE_UPDATE] += 1.0

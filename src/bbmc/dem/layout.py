@@ -39,7 +39,11 @@ COH, TANPHI, TEN = 6, 7, 8  # cohesion [Pa], tan(friction angle) [1], tensile st
 LENGTH = 9  # contact length carried by this sub-contact [m]
 SLIPPED = 10  # 1 once the sub-contact has slipped (or failed in tension)
 CX, CY = 11, 12  # position [m]
-SUB_COLUMNS = 13
+LAW_SN, LAW_TAU = (
+    13,
+    14,
+)  # the stresses the joint laws were last evaluated at (nan: evaluate at the next update)
+SUB_COLUMNS = 15
 
 # --- joint types: int64 (n_types, LAW_COLUMNS) and float64 (n_types, PARAMETERS) --------------------
 STRENGTH_LAW, NORMAL_LAW, SHEAR_LAW, AFTER_SLIP = 0, 1, 2, 3

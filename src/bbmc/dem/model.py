@@ -7,7 +7,7 @@ indices; anything a scene refers to that does not exist is a `ConfigError` namin
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +41,17 @@ class MonitorSpec:
     near: np.ndarray | None
 
 
+@dataclass(frozen=True)
+class Economy:
+    """Work the engine leaves out because no scene result depends on it. Each can be switched off, to
+    measure its gain side by side (`bbmc bench`) and to check that it changes no number (tests)."""
+
+    skip_immobile_pairs: bool = True  # contact search: no pair of two blocks held still
+    bound_depth_when_needed: bool = True  # contact search: separating-axis bound only for deep edge pairs
+    changed_laws_only: bool = True  # law updates: not for sub-contacts whose stresses are unchanged
+    skip_held_blocks: bool = True  # motion and vertices: not for blocks held still
+
+
 @dataclass
 class Model:
     """Everything the engine needs, in SI; arrays are the initial state (the solver copies them)."""
@@ -69,6 +80,13 @@ class Model:
     load_edge: np.ndarray
     search_margin: float
     monitors: list[MonitorSpec]
+    economy: Economy = field(default_factory=Economy)
+
+    @property
+    def immobile(self) -> np.ndarray:
+        """Blocks with every degree of freedom held at zero velocity: they can never load each other."""
+        held = (self.dof == L.PRESCRIBED) & (self.blocks[:, [L.VPX, L.VPY, L.VPW]] == 0.0)
+        return np.all(held, axis=1)
 
     @property
     def variable_laws(self) -> bool:

@@ -49,6 +49,8 @@ class State:
     contacts: np.ndarray
     subs: np.ndarray
     n_sub: int
+    immobile: np.ndarray  # blocks held still for the whole run (`Model.immobile`)
+    moving: np.ndarray  # blocks whose motion the cycle computes (all, unless held ones are skipped)
     searches: int = 0
     dt_range: list[float] = field(default_factory=lambda: [math.inf, 0.0])
     largest_overlap: float = 0.0
@@ -72,7 +74,8 @@ def initial_state(model: Model) -> State:
     n_sub = model.scene.contacts.sub_contacts_per_edge
     world = np.empty_like(model.local)
     blocks = model.blocks.copy()
-    kernels.update_vertices(blocks, model.vertex_block, model.local, world)
+    immobile = model.immobile
+    kernels.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
     return State(
         clock=np.zeros(L.CLOCK_COLUMNS),
         blocks=blocks,
@@ -81,6 +84,8 @@ def initial_state(model: Model) -> State:
         contacts=np.zeros((0, L.CONTACT_COLUMNS), dtype=np.int64),
         subs=np.zeros((0, L.SUB_COLUMNS)),
         n_sub=n_sub,
+        immobile=immobile,
+        moving=~immobile if model.economy.skip_held_blocks else np.ones(len(blocks), dtype=bool),
     )
 
 
@@ -102,8 +107,8 @@ def _joint_types(model: Model, world: np.ndarray, found: np.ndarray) -> np.ndarr
 
 def search_contacts(model: Model, state: State) -> None:
     """Find the facing edge pairs now within the margin; contacts found before keep their state."""
-    b = state.blocks
-    immobile = _immobile(state)
+    b, economy = state.blocks, model.economy
+    immobile = state.immobile if economy.skip_immobile_pairs else np.zeros(len(b), dtype=bool)
     cos_tolerance = math.cos(model.scene.contacts.angle_tolerance_deg * units.deg)
     pairs = candidate_pairs(state.world, model.vertex_start, immobile, model.search_margin)
     found = facing_edges(
@@ -114,6 +119,7 @@ def search_contacts(model: Model, state: State) -> None:
         b[:, L.SIZE],
         cos_tolerance,
         model.search_margin,
+        economy.bound_depth_when_needed,
     )
     n_vertices, n_sub = len(model.local), state.n_sub
     old_keys = state.contacts[:, L.EDGE_A] * n_vertices + state.contacts[:, L.EDGE_B]
@@ -136,7 +142,9 @@ def search_contacts(model: Model, state: State) -> None:
     kernels.initial_joint_state(contacts, subs, n_sub, model.laws, model.params, first_new, state.step == 0)
     new_contacts, new_subs = contacts[first_new:], subs[first_new * n_sub :]
     if model.variable_laws:
-        kernels.update_joint_laws(new_contacts, new_subs, n_sub, model.laws, model.params)
+        kernels.update_joint_laws(
+            new_contacts, new_subs, n_sub, model.laws, model.params, model.economy.changed_laws_only
+        )
     kernels.contact_forces(
         b, state.world, model.vertex_next, new_contacts, new_subs, n_sub, model.laws, cos_tolerance, 0.0
     )
@@ -229,16 +237,10 @@ def _check_health(model: Model, state: State) -> None:
     )
 
 
-def _immobile(state: State) -> np.ndarray:
-    """Blocks with every degree of freedom held at zero velocity: they can never load each other."""
-    held = (state.dof == L.PRESCRIBED) & (state.blocks[:, [L.VPX, L.VPY, L.VPW]] == 0.0)
-    return np.all(held, axis=1)
-
-
 def _check_overlap(model: Model, state: State, warnings: list[str]) -> None:
     """Record the deepest interpenetration of any two blocks (a vertex of one inside the other), as a
     fraction of the smaller block's size; warn once when it passes the scene's limit."""
-    pairs = candidate_pairs(state.world, model.vertex_start, _immobile(state), 0.0)
+    pairs = candidate_pairs(state.world, model.vertex_start, state.immobile, 0.0)
     if not len(pairs):
         return
     depth = vertex_penetration(pairs, state.world, model.vertex_start, model.vertex_next)
@@ -262,7 +264,9 @@ def prepare(model: Model) -> State:
     state = initial_state(model)
     search_contacts(model, state)
     if model.variable_laws:
-        kernels.update_joint_laws(state.contacts, state.subs, state.n_sub, model.laws, model.params)
+        kernels.update_joint_laws(
+            state.contacts, state.subs, state.n_sub, model.laws, model.params, model.economy.changed_laws_only
+        )
     _set_time_step(model, state)
     return state
 
@@ -279,6 +283,7 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             state.clock,
             state.blocks,
             state.dof,
+            model.vertex_start,
             model.vertex_block,
             model.vertex_next,
             model.local,
@@ -290,6 +295,8 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             model.params,
             model.variable_laws,
             solver.update_interval_steps,
+            model.economy.changed_laws_only,
+            state.moving,
             model.gravity,
             model.block_loads,
             model.load_block,
@@ -362,7 +369,7 @@ def _moved_beyond_stop(model: Model, state: State) -> bool:
     stop = model.scene.solver.stop
     if stop is None or stop.displacement_m is None:
         return False
-    b = state.blocks[~_immobile(state)]
+    b = state.blocks[~state.immobile]
     return bool(
         np.max(np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0]), initial=0.0) > stop.displacement_m
     )

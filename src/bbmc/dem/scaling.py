@@ -1,0 +1,354 @@
+"""Scaling of the block engine on generated jointed slopes: time per step and peak memory against
+the number of blocks (results/bench/scaling.csv and its figure).
+
+Each system is the paper's slope (configs/slope.yaml, section 5: 10 m high, 60 deg face, a bedding
+set dipping 20 deg out of the face every 2.5 m, a joint set dipping 80 deg into the slope every
+5 m, 34 blocks) with both spacings shrunk by the same factor, so that the generator cuts about the
+number of blocks asked (`spacing_scale`; the count is not exact, the table gives the actual one).
+Joints are Table 4's constant Mohr-Coulomb joints (K_n = K_s = 10.7 MPa/mm, phi = 14.51 deg,
+c = 5.4 kPa, cohesion lost at slip), the rock its density (2300 kg/m3); gravity, automatic time step
+(safety factor 0.5), local damping 0.8, 4 sub-contacts per edge: `bbmc.slope.model.slope_scene`.
+
+Each size runs in a fresh Python process, so that its peak resident set size (`ru_maxrss`, which
+sees numba's and numpy's allocations as well as Python's) is its own. The table also gives the peak
+of a process that only imports bbmc and loads the compiled kernels (on the paper slope itself,
+`BASELINE_BLOCKS`), and each size's peak above it. Times are wall-clock on one core: the generation
+and model build once, the contact search at step 0 (`prepare`) and the cycles (`advance`, including
+every contact search they trigger) best of the repeats. Compare ratios between sizes, not absolute
+numbers across machines.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from bbmc.dem import layout as L
+from bbmc.dem import polygons
+from bbmc.dem.model import build_model
+from bbmc.dem.scene import JointedSlope, Scene
+from bbmc.dem.solver import advance, prepare
+from bbmc.slope import model as sm
+
+PAPER_SLOPE = JointedSlope(
+    height_m=10.0,
+    face_angle_deg=60.0,
+    crest_extent_m=25.0,
+    toe_extent_m=0.0,
+    depth_m=0.0,
+    joint_sets=[
+        {"dip_deg": 20.0, "dip_direction_to_face_deg": 0.0, "spacing_m": 2.5, "offset_m": 0.0},
+        {"dip_deg": 80.0, "dip_direction_to_face_deg": 180.0, "spacing_m": 5.0, "offset_m": 0.0},
+    ],
+    min_block_fraction=0.02,
+    fixed_boundaries=["right", "bottom"],
+)  # configs/slope.yaml's slope
+DENSITY_KG_M3 = 2300.0  # Table 4 (data/paper/table4_rock_mass.csv)
+CONSTANT_JOINT = {
+    "law": "constant",
+    "kn_MPa_per_mm": 10.7,
+    "ks_MPa_per_mm": 10.7,
+    "cohesion_MPa": 0.0054,
+    "friction_deg": 14.51,
+    "after_slip": "zero",
+}  # Table 4's constant joint (data/paper/table4_joints_constant.csv), 3DEC's Coulomb slip
+RUN = sm.Run(damping=0.8, safety_factor=0.5, sub_contacts_per_edge=4)
+BASELINE_BLOCKS = 34  # the paper slope: the baseline process loads every kernel on it
+CALIBRATION_SCALE = 1.0 / 3.0  # the second spacing factor at which the block count is calibrated
+NLOGN_SLACK = 1.5  # within_NlogN: cost / (N log N) at most this many times the smallest size's
+MEMORY_MARGIN = 1.5  # a size's peak above the baseline is estimated this much above the extrapolation
+MB = 1.0e6
+MAXRSS_BYTES = 1 if sys.platform == "darwin" else 1024  # ru_maxrss is in bytes on macOS, kB on Linux
+
+
+def _slope(scale: float) -> JointedSlope:
+    sets = [s.model_copy(update={"spacing_m": s.spacing_m * scale}) for s in PAPER_SLOPE.joint_sets]
+    return PAPER_SLOPE.model_copy(update={"joint_sets": sets})
+
+
+def _block_count(scale: float) -> int:
+    slope = _slope(scale).model_dump()
+    return len(polygons.jointed_slope(**{k: v for k, v in slope.items() if k != "fixed_boundaries"}))
+
+
+@functools.cache
+def _count_law() -> tuple[float, float]:
+    """(a, b) of count(s) = a / s^2 + b / s for spacings scaled by s: whole cells fill the profile's
+    area (a), cut cells along its boundary add a term in its perimeter (b); fitted through the counts
+    at s = 1 (the paper's slope) and s = CALIBRATION_SCALE."""
+    s1, s2 = 1.0, CALIBRATION_SCALE
+    n1, n2 = _block_count(s1), _block_count(s2)
+    u1, u2 = 1 / s1, 1 / s2  # n1 = a u1^2 + b u1, n2 = a u2^2 + b u2
+    a = (n2 * u1 - n1 * u2) / (u2 * u2 * u1 - u1 * u1 * u2)
+    b = (n1 - a * u1 * u1) / u1
+    return a, b
+
+
+def spacing_scale(blocks: int) -> float:
+    """The factor on the paper slope's joint spacings that gives about `blocks` blocks."""
+    if blocks < 1:
+        raise ValueError(f"blocks must be at least 1, got {blocks}")
+    a, b = _count_law()
+    inverse = (-b + math.sqrt(b * b + 4 * a * blocks)) / (2 * a)  # a u^2 + b u = blocks, u = 1 / s
+    return 1.0 / inverse
+
+
+def scaled_slope(blocks: int) -> dict:
+    """The scene (a dict in the scene format) of the paper slope cut into about `blocks` blocks."""
+    scale = spacing_scale(blocks)
+    scene = sm.slope_scene(f"scaled_slope_{blocks}", _slope(scale), DENSITY_KG_M3, CONSTANT_JOINT, RUN, [])
+    scene["description"] = (
+        f"The paper's jointed slope (bbmc slope) with joint spacings x {scale:.4g}: about {blocks} blocks."
+    )
+    return scene
+
+
+def _peak_rss_bytes() -> float:
+    return float(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * MAXRSS_BYTES)
+
+
+class _Timed:
+    """Wraps a function and adds up the wall-clock time spent in it."""
+
+    def __init__(self, function):
+        self.function, self.seconds = function, 0.0
+
+    def __call__(self, *args, **kwargs):
+        start = time.perf_counter()
+        try:
+            return self.function(*args, **kwargs)
+        finally:
+            self.seconds += time.perf_counter() - start
+
+
+def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float = 0.5) -> dict:
+    """`measure`, in this process (its peak RSS is this process's peak so far).
+
+    The cycles are repeated at least `repeats` times, and more (up to 100) while less than
+    `min_timed_s` of cycles has been timed, each repeat from a fresh `prepare`; the best is kept."""
+    _run_kernels()  # load every compiled kernel first: the first timed search would include it
+    entry = scaled_slope(blocks)  # the block count's calibration is not timed
+    generator = _Timed(polygons.jointed_slope)
+    polygons.jointed_slope = generator  # build_model calls it through the module: time its share
+    try:
+        start = time.perf_counter()
+        scene = Scene.model_validate(entry, strict=False)
+        model = build_model(scene, Path(f"<scaled slope of about {blocks} blocks>"))
+        build_s = time.perf_counter() - start
+    finally:
+        polygons.jointed_slope = generator.function
+    peak_after_build = _peak_rss_bytes()
+    best_search, best_cycles, timed, runs = math.inf, math.inf, 0.0, 0
+    while runs < repeats or (timed < min_timed_s and runs < 100):
+        start = time.perf_counter()
+        state = prepare(model)
+        searched = time.perf_counter()
+        advance(model, state, steps)
+        done = time.perf_counter()
+        best_search, best_cycles = min(best_search, searched - start), min(best_cycles, done - searched)
+        timed, runs = timed + done - searched, runs + 1
+    return {
+        "blocks_asked": blocks,
+        "blocks": len(model.block_names),
+        "free_blocks": int(np.sum(~np.all(model.dof == L.PRESCRIBED, axis=1))),
+        "spacing_scale": spacing_scale(blocks),
+        "contacts": len(state.contacts),
+        "sub_contacts": len(state.subs),
+        "active_sub_contacts": int(np.sum(state.subs[:, L.LENGTH] > 0)),
+        "steps": steps,
+        "timed_runs": runs,
+        "time_step_s": float(state.dt_range[0]),
+        "contact_searches_during_cycles": state.searches - 1,
+        "generation_s": generator.seconds,
+        "generation_and_build_s": build_s,
+        "initial_search_s": best_search,
+        "cycles_s": best_cycles,
+        "seconds_per_step": best_cycles / steps,
+        "sub_contact_updates_per_s": len(state.subs) * steps / best_cycles,
+        "peak_rss_after_build_MB": peak_after_build / MB,
+        "peak_rss_MB": _peak_rss_bytes() / MB,
+    }
+
+
+def _run_kernels() -> None:
+    """A few cycles of the paper slope: every kernel a run uses is compiled or loaded from the cache."""
+    scene = Scene.model_validate(scaled_slope(BASELINE_BLOCKS), strict=False)
+    model = build_model(scene, Path("<the paper slope>"))
+    advance(model, prepare(model), 10)
+
+
+def baseline_here() -> dict:
+    """The peak RSS of a process that imports bbmc and runs the kernels on the paper slope."""
+    _run_kernels()
+    return {"baseline_rss_MB": _peak_rss_bytes() / MB}
+
+
+def _in_subprocess(call: str, timeout_s: float | None) -> dict:
+    """Run `bbmc.dem.scaling.<call>` in a fresh interpreter; its JSON answer (the last line printed)."""
+    code = f"import json\nfrom bbmc.dem import scaling\nprint(json.dumps(scaling.{call}))"
+    env = dict(os.environ)
+    source = str(Path(__file__).resolve().parents[2])  # src/: the package, whether installed or not
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (source, env.get("PYTHONPATH")) if p)
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout_s, env=env, check=False
+    )
+    lines = done.stdout.strip().splitlines()
+    if done.returncode != 0 or not lines:
+        error = (done.stderr.strip().splitlines() or [f"exit status {done.returncode}"])[-1]
+        raise RuntimeError(f"scaling.{call} failed (exit status {done.returncode}): {error}")
+    return json.loads(lines[-1])
+
+
+def measure(
+    blocks: int, steps: int, repeats: int, min_timed_s: float = 0.5, timeout_s: float | None = 3600.0
+) -> dict:
+    """Generate, build and run a scaled slope of about `blocks` blocks in a fresh process: blocks,
+    contacts, sub-contacts, times (generation and build, contact search at step 0, `steps` cycles best
+    of `repeats`), contact searches during the cycles, and the process's peak RSS [MB = 1e6 bytes]."""
+    return _in_subprocess(f"measure_here({int(blocks)}, {int(steps)}, {int(repeats)}, {min_timed_s!r})", timeout_s)
+
+
+def baseline(timeout_s: float | None = 600.0) -> float:
+    """Peak RSS [MB] of a fresh process that imports bbmc and loads and runs the compiled kernels."""
+    return _in_subprocess("baseline_here()", timeout_s)["baseline_rss_MB"]
+
+
+def estimated_peak_MB(rows: list[dict], blocks: int, baseline_MB: float) -> float:
+    """A size's peak RSS [MB] estimated from the sizes measured before it: the largest one's peak
+    above the baseline grown as N^p, p the growth exponent of the peak above the baseline between the
+    last two sizes (clipped to [1, 2]; 1 while either is under 5 MB, too small to tell), times
+    MEMORY_MARGIN; NaN before any size is measured."""
+    if not rows:
+        return math.nan
+    last = rows[-1]
+    above = max(last["peak_rss_MB"] - baseline_MB, 0.0)
+    exponent = 1.0
+    if len(rows) > 1:
+        before = rows[-2]
+        above_before = before["peak_rss_MB"] - baseline_MB
+        if min(above, above_before) >= 5.0 and last["blocks"] > before["blocks"]:
+            ratio = math.log(above / above_before) / math.log(last["blocks"] / before["blocks"])
+            exponent = min(max(ratio, 1.0), 2.0)
+    return baseline_MB + MEMORY_MARGIN * above * (blocks / last["blocks"]) ** exponent
+
+
+def scaling_table(
+    block_counts: list[int],
+    steps: int,
+    repeats: int,
+    memory_limit_bytes: float,
+    min_timed_s: float = 0.5,
+    progress=None,
+) -> pd.DataFrame:
+    """One row per size (ascending), each measured in its own process (`measure`), the same `steps`
+    cycles from the same state at rest for every size.
+
+    A size whose estimated peak (`estimated_peak_MB`) is above `memory_limit_bytes`, or whose process
+    fails, gets a row with the reason in `skipped` and no measurements. Derived columns, over the
+    measured rows: growth_exponent_vs_previous = log(t / t_prev) / log(N / N_prev) of the seconds
+    per step (1 is linear), cost_over_NlogN_relative = (t / (N ln N)) / (t_0 / (N_0 ln N_0)) against
+    the smallest size, within_NlogN = that ratio <= NLOGN_SLACK, and the same exponent for the peak
+    RSS above the baseline. `progress(message)` is called before each process."""
+    say = progress or (lambda message: None)
+    _run_kernels()  # compiles and caches the kernels if need be, here: the processes only load them
+    say("baseline process (bbmc imported, kernels loaded)")
+    baseline_MB = baseline()
+    rows, measured = [], []
+    for blocks in sorted(block_counts):
+        estimate = estimated_peak_MB(measured, blocks, baseline_MB)
+        row = {"blocks_asked": blocks, "estimated_peak_rss_MB": estimate, "skipped": ""}
+        if estimate * MB > memory_limit_bytes:
+            row["skipped"] = (
+                f"estimated peak {estimate:.0f} MB above the limit {memory_limit_bytes / MB:.0f} MB"
+            )
+        else:
+            say(f"{blocks} blocks, {steps} steps")
+            try:
+                result = measure(blocks, steps, repeats, min_timed_s)
+            except (RuntimeError, subprocess.TimeoutExpired) as error:
+                row["skipped"] = str(error).splitlines()[0]
+            else:
+                row.update(result)
+                measured.append(result)
+        rows.append(row)
+    table = pd.DataFrame(rows)
+    table["baseline_rss_MB"] = baseline_MB
+    table["peak_rss_above_baseline_MB"] = table.get("peak_rss_MB", np.nan) - baseline_MB
+    return _derived(table)
+
+
+def _derived(table: pd.DataFrame) -> pd.DataFrame:
+    """The growth columns (see `scaling_table`), NaN on skipped rows."""
+    for column in ("growth_exponent_vs_previous", "cost_over_NlogN_relative", "memory_growth_exponent"):
+        table[column] = np.nan
+    table["within_NlogN"] = False
+    done = table.index[table["skipped"] == ""]
+    if len(done) == 0:
+        return table
+    cost = table.loc[done, "seconds_per_step"].to_numpy(dtype=float)
+    n = table.loc[done, "blocks"].to_numpy(dtype=float)
+    memory = table.loc[done, "peak_rss_above_baseline_MB"].to_numpy(dtype=float)
+    log_n = np.log(n[1:] / n[:-1])
+    table.loc[done, "growth_exponent_vs_previous"] = np.concatenate([[np.nan], np.log(cost[1:] / cost[:-1]) / log_n])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        positive = np.where(memory > 0, memory, np.nan)
+        table.loc[done, "memory_growth_exponent"] = np.concatenate(
+            [[np.nan], np.log(positive[1:] / positive[:-1]) / log_n]
+        )
+    per_nlogn = cost / (n * np.log(n))
+    table.loc[done, "cost_over_NlogN_relative"] = per_nlogn / per_nlogn[0]
+    table.loc[done, "within_NlogN"] = per_nlogn / per_nlogn[0] <= NLOGN_SLACK
+    return table
+
+
+def _references(ax, n: np.ndarray, n0: float, y0: float) -> None:
+    """Lines of slope N and N log N through (n0, y0)."""
+    grid = np.geomspace(n.min(), n.max(), 50)
+    ax.plot(grid, y0 * grid / n0, "k:", lw=1, label="∝ N (through the smallest size)")
+    ax.plot(grid, y0 * grid * np.log(grid) / (n0 * math.log(n0)), "k--", lw=1, label="∝ N log N")
+
+
+def scaling_figure(table: pd.DataFrame, dpi: int = 120) -> Figure:
+    """Log-log: the time per step (and the contact search at step 0) against the number of blocks,
+    and the peak RSS (total and above the baseline process), with N and N log N reference lines
+    through the smallest size."""
+    done = table[table["skipped"] == ""]
+    n = done["blocks"].to_numpy(dtype=float)
+    fig = Figure(figsize=(11, 4.5), dpi=dpi, layout="constrained")
+    time_ax, memory_ax = fig.subplots(1, 2)
+    seconds = done["seconds_per_step"].to_numpy(dtype=float)
+    time_ax.plot(n, seconds * 1e3, "o-", label="cycle (per step)")
+    time_ax.plot(n, done["initial_search_s"].to_numpy(dtype=float) * 1e3, "s-", label="contact search at step 0")
+    if len(n):
+        _references(time_ax, n, n[0], seconds[0] * 1e3)
+    time_ax.set(xscale="log", yscale="log", xlabel="blocks [1]", ylabel="wall-clock time [ms]")
+    time_ax.set_title("Time per step (one core)")
+    above = done["peak_rss_above_baseline_MB"].to_numpy(dtype=float)
+    memory_ax.plot(n, done["peak_rss_MB"].to_numpy(dtype=float), "o-", label="peak RSS")
+    memory_ax.plot(n, above, "s-", label="peak RSS above the baseline process")
+    memory_ax.axhline(done["baseline_rss_MB"].iloc[0] if len(done) else np.nan, color="0.6", lw=1,
+                      label="baseline process (bbmc imported, kernels loaded)")
+    first = np.flatnonzero(above > 0)
+    if len(first):
+        _references(memory_ax, n, n[first[0]], above[first[0]])
+    memory_ax.set(xscale="log", yscale="log", xlabel="blocks [1]", ylabel="resident set size [MB]")
+    memory_ax.set_title("Peak memory (ru_maxrss of the process)")
+    for ax in (time_ax, memory_ax):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    return fig
