@@ -455,24 +455,27 @@ def _row_scale(blocks, dof, i, d, symmetric):
 
 
 @numba.njit(cache=True)
-def critical_time_step(blocks, dof, world, vertex_next, contacts, subs, n_sub):
-    """Lower bound of the critical step of the undamped system, 2 / sqrt(lambda_max) [s] (Gershgorin);
-    +inf when nothing is in contact."""
+def critical_time_step(blocks, dof, world, vertex_next, contacts, subs, n_sub, damping):
+    """Lower bound of the critical step, 2 / sqrt((1 + damping) lambda_max) [s] (Gershgorin bound on
+    lambda_max); +inf when nothing is in contact. Local damping adds damping x |F| to the force while a
+    block decelerates, so it acts as a (1 + damping)-fold stiffness there: without that factor a step
+    just below the undamped limit diverges (measured at damping 0.8: 0.76 of 2 / sqrt(lambda_max))."""
     rows = np.zeros((blocks.shape[0], 3))
     stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, True, rows)
     largest = rows.max() if rows.size else 0.0
     if largest <= 0.0:
         return math.inf
-    return 2.0 / math.sqrt(largest)
+    return 2.0 / math.sqrt((1.0 + damping) * largest)
 
 
 @numba.njit(cache=True)
-def scale_masses(blocks, dof, world, vertex_next, contacts, subs, n_sub, dt, safety):
-    """Density scaling: raise each degree of freedom's inertial mass to |K| row sum (dt / 2 safety)^2,
-    never below the true mass, so that `dt` is `safety` times a lower bound of the critical step."""
+def scale_masses(blocks, dof, world, vertex_next, contacts, subs, n_sub, dt, safety, damping):
+    """Density scaling: raise each degree of freedom's inertial mass to (1 + damping) |K| row sum
+    (dt / 2 safety)^2, never below the true mass, so that `dt` is `safety` times a lower bound of the
+    critical step (`critical_time_step`)."""
     rows = np.zeros((blocks.shape[0], 3))
     stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, False, rows)
-    factor = (dt / (2.0 * safety)) ** 2
+    factor = (1.0 + damping) * (dt / (2.0 * safety)) ** 2
     for i in range(blocks.shape[0]):
         blocks[i, MX] = max(blocks[i, MASS], rows[i, 0] * factor)
         blocks[i, MY] = max(blocks[i, MASS], rows[i, 1] * factor)
@@ -534,6 +537,7 @@ def cycle(
                 time_step_mode,
                 safety,
                 fixed_dt,
+                damping,
             )
             if status != DONE:
                 return done, status
@@ -562,13 +566,15 @@ def cycle(
 
 
 @numba.njit(cache=True)
-def set_time_step(clock, blocks, dof, world, vertex_next, contacts, subs, n_sub, mode, safety, fixed_dt):
+def set_time_step(
+    clock, blocks, dof, world, vertex_next, contacts, subs, n_sub, mode, safety, fixed_dt, damping
+):
     """Set clock[DT] for the current stiffnesses (see `cycle` for the modes); returns a status code."""
     if mode == 2:
-        scale_masses(blocks, dof, world, vertex_next, contacts, subs, n_sub, fixed_dt, safety)
+        scale_masses(blocks, dof, world, vertex_next, contacts, subs, n_sub, fixed_dt, safety, damping)
         clock[DT] = fixed_dt
         return DONE
-    critical = critical_time_step(blocks, dof, world, vertex_next, contacts, subs, n_sub)
+    critical = critical_time_step(blocks, dof, world, vertex_next, contacts, subs, n_sub, damping)
     if mode == 1:
         clock[DT] = fixed_dt
         return STEP_ABOVE_CRITICAL if fixed_dt > critical else DONE

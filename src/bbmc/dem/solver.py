@@ -167,9 +167,16 @@ def _set_time_step(model: Model, state: State) -> None:
         TIME_STEP_MODES[ts.mode],
         ts.safety_factor,
         ts.step_s or math.inf,
+        model.scene.solver.damping,
     )
     if status == kernels.STEP_ABOVE_CRITICAL:
         _above_critical(model, state)
+    if not math.isfinite(state.clock[L.DT]) and math.isfinite(state.dt_range[0]):
+        raise SimulationError(
+            f"step {state.step}: every contact has been lost (blocks pushed through each other or thrown "
+            f"apart: deeper than a quarter of a block, {state.largest_overlap:.3g} of its size at the last "
+            "check); likely cause: joints too soft for the load, or a load applied too fast (ramp_steps)"
+        )
     if not math.isfinite(state.clock[L.DT]):
         raise SimulationError(
             f"key 'solver.time_step.step_s': at step {state.step} nothing is in contact, so the automatic "
@@ -187,7 +194,14 @@ def _note_time_step(state: State) -> None:
 
 def _critical(model: Model, state: State) -> float:
     return kernels.critical_time_step(
-        state.blocks, state.dof, state.world, model.vertex_next, state.contacts, state.subs, state.n_sub
+        state.blocks,
+        state.dof,
+        state.world,
+        model.vertex_next,
+        state.contacts,
+        state.subs,
+        state.n_sub,
+        model.scene.solver.damping,
     )
 
 
