@@ -14,7 +14,6 @@ from hypothesis import strategies as st
 from bbmc.cli import main
 from bbmc.dem import kernels, polygons
 from bbmc.dem import layout as L
-from bbmc.dem.benchmark import engine_table
 from bbmc.dem.detection import candidate_pairs
 from bbmc.dem.solver import (
     SimulationError,
@@ -310,16 +309,6 @@ def test_displacement_stop_sees_a_block_driven_at_a_velocity(tmp_path):
     summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
     assert summary["stopped_by_displacement"] == 1
     assert 2.0 < result.history["ux_mm"].iloc[-1] < 2.0 + 0.5 * 0.02 * 200
-
-
-def test_engine_benchmark_reports_rates_and_growth():
-    """The benchmark's table on two small walls: sizes as asked, finite rates, the growth columns."""
-    table = engine_table([20, 80], sub_contacts=2, steps=20, repeats=1)
-    assert list(table["blocks"]) == [22, 79]  # the nearest walls, plus the base
-    assert (table["sub_contact_updates_per_s"] > 0).all()
-    assert table["sub_contacts"].iloc[1] == 2 * table["contacts"].iloc[1]
-    assert np.isfinite(table["growth_exponent_vs_previous"].iloc[1])
-    assert table["cost_over_NlogN_relative"].iloc[0] == 1.0
 
 
 def test_corner_pushed_through_a_face_is_reported(tmp_path):

@@ -137,13 +137,6 @@ STAGE_HELP = {
     writes results/audit/audit.csv (one row per number: paper, ours, difference, verdict,
     reasoning), summary.csv, provenance.json
     """,
-    bench_stage: """Measure the joint laws' throughput: numpy ufunc vs njit kernel vs plain Python.
-
-    \b
-    Example:
-      bbmc bench --config configs/bench.yaml
-    writes results/bench/laws.csv (evaluations per second and their ratios), provenance.json
-    """,
 }
 
 
@@ -192,6 +185,30 @@ def run_command(config: str | None, results: str) -> None:
         out_dir = Path(results) / run_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(run_stage.NAME, config_path, scene))
     _report_written(run_stage.NAME, out_dir, written)
+
+
+@main.command(name="bench")
+@_stage_options
+def bench_command(config: str | None, results: str) -> None:
+    """Measure what speed costs in accuracy, the work the engine leaves out, its growth, the laws' speed.
+
+    \b
+    Example:
+      bbmc bench --config configs/bench.yaml
+    writes results/bench/tradeoff.csv (each knob alone on the paper's scenes: wall time, error against a
+    converged reference, Pareto front), tradeoff_readings.csv (what was read, per run),
+    recommended.csv (each knob's fastest value within the target error), economy.csv (the gain of each
+    piece of work the engine leaves out), scaling.csv (time per step and peak memory, 100 to 100,000
+    blocks), laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
+    Takes minutes; wall times depend on the machine: compare the ratios.
+    """
+    config_path = Path(config) if config else Path("configs") / "bench.yaml"
+    with _reported(bench_stage.NAME):
+        settings = load_config(config_path, bench_stage.Config)
+        result = bench_stage.run(settings, lambda step: click.echo(f"bbmc bench: {step}", err=True))
+        out_dir = Path(results) / bench_stage.NAME
+        written = write_stage(out_dir, result, provenance(bench_stage.NAME, config_path, settings))
+    _report_written(bench_stage.NAME, out_dir, written)
 
 
 @main.command(name="slope")

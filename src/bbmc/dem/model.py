@@ -52,6 +52,9 @@ class Economy:
     skip_held_blocks: bool = True  # motion and vertices: not for blocks held still
 
 
+EVERY_ECONOMY = Economy()
+
+
 @dataclass
 class Model:
     """Everything the engine needs, in SI; arrays are the initial state (the solver copies them)."""

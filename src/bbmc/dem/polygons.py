@@ -221,7 +221,8 @@ def jointed_slope(
         offset = joint_set["offset_m"] / trace[2]
         pieces = [cell for piece in pieces for cell in _cut(piece, normal, offset, spacing)]
     areas = np.array([polygon_area(p) for p in pieces])
-    return [p for p, a in zip(pieces, areas, strict=True) if a >= min_block_fraction * np.median(areas)]
+    smallest = min_block_fraction * np.median(areas)
+    return [p for p, a in zip(pieces, areas, strict=True) if a >= smallest]
 
 
 GENERATORS: dict[str, Callable[..., list[np.ndarray]]] = {"brick_wall": brick_wall}

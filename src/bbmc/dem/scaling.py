@@ -9,10 +9,10 @@ Joints are Table 4's constant Mohr-Coulomb joints (K_n = K_s = 10.7 MPa/mm, phi 
 c = 5.4 kPa, cohesion lost at slip), the rock its density (2300 kg/m3); gravity, automatic time step
 (safety factor 0.5), local damping 0.8, 4 sub-contacts per edge: `bbmc.slope.model.slope_scene`.
 
-Each size runs in a fresh Python process, so that its peak resident set size (`ru_maxrss`, which
-sees numba's and numpy's allocations as well as Python's) is its own. The table also gives the peak
-of a process that only imports bbmc and loads the compiled kernels (on the paper slope itself,
-`BASELINE_BLOCKS`), and each size's peak above it. Times are wall-clock on one core: the generation
+Each size runs in a fresh Python process, so that its peak resident set size (VmHWM on Linux, else
+ru_maxrss: both see numba's and numpy's allocations as well as Python's) is its own. The table also
+gives the peak of a process that only imports bbmc and loads the compiled kernels (on the paper slope
+itself, `BASELINE_BLOCKS`), and each size's peak above it. Times are wall-clock on one core: the generation
 and model build once, the contact search at step 0 (`prepare`) and the cycles (`advance`, including
 every contact search they trigger) best of the repeats. Compare ratios between sizes, not absolute
 numbers across machines.
@@ -29,14 +29,10 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-
-import matplotlib
-
-matplotlib.use("Agg")
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
-from matplotlib.figure import Figure
 
 from bbmc.dem import layout as L
 from bbmc.dem import polygons
@@ -44,6 +40,9 @@ from bbmc.dem.model import build_model
 from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import advance, prepare
 from bbmc.slope import model as sm
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 PAPER_SLOPE = JointedSlope(
     height_m=10.0,
@@ -72,6 +71,8 @@ BASELINE_BLOCKS = 34  # the paper slope: the baseline process loads every kernel
 CALIBRATION_SCALE = 1.0 / 3.0  # the second spacing factor at which the block count is calibrated
 NLOGN_SLACK = 1.5  # within_NlogN: cost / (N log N) at most this many times the smallest size's
 MEMORY_MARGIN = 1.5  # a size's peak above the baseline is estimated this much above the extrapolation
+MEMORY_RESOLUTION_MB = 2.0  # peaks above the baseline smaller than this are noise (allocator arenas,
+# pages): no growth exponent is read from them
 MB = 1.0e6
 MAXRSS_BYTES = 1 if sys.platform == "darwin" else 1024  # ru_maxrss is in bytes on macOS, kB on Linux
 
@@ -119,6 +120,16 @@ def scaled_slope(blocks: int) -> dict:
 
 
 def _peak_rss_bytes() -> float:
+    """This process's peak resident set size [bytes]: VmHWM of /proc/self/status where there is one
+    (Linux), else ru_maxrss. Not ru_maxrss on Linux: it keeps the parent's peak across fork and exec,
+    so a process started by a larger one (pytest, a stage) would report the parent's size."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return float(line.split()[1]) * 1024  # kB
+    except OSError:
+        pass
     return float(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * MAXRSS_BYTES)
 
 
@@ -220,7 +231,9 @@ def measure(
     """Generate, build and run a scaled slope of about `blocks` blocks in a fresh process: blocks,
     contacts, sub-contacts, times (generation and build, contact search at step 0, `steps` cycles best
     of `repeats`), contact searches during the cycles, and the process's peak RSS [MB = 1e6 bytes]."""
-    return _in_subprocess(f"measure_here({int(blocks)}, {int(steps)}, {int(repeats)}, {min_timed_s!r})", timeout_s)
+    return _in_subprocess(
+        f"measure_here({int(blocks)}, {int(steps)}, {int(repeats)}, {min_timed_s!r})", timeout_s
+    )
 
 
 def baseline(timeout_s: float | None = 600.0) -> float:
@@ -231,7 +244,7 @@ def baseline(timeout_s: float | None = 600.0) -> float:
 def estimated_peak_MB(rows: list[dict], blocks: int, baseline_MB: float) -> float:
     """A size's peak RSS [MB] estimated from the sizes measured before it: the largest one's peak
     above the baseline grown as N^p, p the growth exponent of the peak above the baseline between the
-    last two sizes (clipped to [1, 2]; 1 while either is under 5 MB, too small to tell), times
+    last two sizes (clipped to [1, 2]; 1 while either is under MEMORY_RESOLUTION_MB), times
     MEMORY_MARGIN; NaN before any size is measured."""
     if not rows:
         return math.nan
@@ -241,7 +254,7 @@ def estimated_peak_MB(rows: list[dict], blocks: int, baseline_MB: float) -> floa
     if len(rows) > 1:
         before = rows[-2]
         above_before = before["peak_rss_MB"] - baseline_MB
-        if min(above, above_before) >= 5.0 and last["blocks"] > before["blocks"]:
+        if min(above, above_before) >= MEMORY_RESOLUTION_MB and last["blocks"] > before["blocks"]:
             ratio = math.log(above / above_before) / math.log(last["blocks"] / before["blocks"])
             exponent = min(max(ratio, 1.0), 2.0)
     return baseline_MB + MEMORY_MARGIN * above * (blocks / last["blocks"]) ** exponent
@@ -262,8 +275,9 @@ def scaling_table(
     fails, gets a row with the reason in `skipped` and no measurements. Derived columns, over the
     measured rows: growth_exponent_vs_previous = log(t / t_prev) / log(N / N_prev) of the seconds
     per step (1 is linear), cost_over_NlogN_relative = (t / (N ln N)) / (t_0 / (N_0 ln N_0)) against
-    the smallest size, within_NlogN = that ratio <= NLOGN_SLACK, and the same exponent for the peak
-    RSS above the baseline. `progress(message)` is called before each process."""
+    the smallest size, within_NlogN = that ratio <= NLOGN_SLACK, and memory_growth_exponent, the same
+    exponent for the peak RSS above the baseline (NaN where either is under MEMORY_RESOLUTION_MB).
+    `progress(message)` is called before each process."""
     say = progress or (lambda message: None)
     _run_kernels()  # compiles and caches the kernels if need be, here: the processes only load them
     say("baseline process (bbmc imported, kernels loaded)")
@@ -292,21 +306,28 @@ def scaling_table(
     return _derived(table)
 
 
+def _measured(table: pd.DataFrame) -> pd.Series:
+    """The rows measured: no skip reason (empty, or NaN once read back from a CSV)."""
+    return table["skipped"].fillna("") == ""
+
+
 def _derived(table: pd.DataFrame) -> pd.DataFrame:
     """The growth columns (see `scaling_table`), NaN on skipped rows."""
     for column in ("growth_exponent_vs_previous", "cost_over_NlogN_relative", "memory_growth_exponent"):
         table[column] = np.nan
     table["within_NlogN"] = False
-    done = table.index[table["skipped"] == ""]
+    done = table.index[_measured(table)]
     if len(done) == 0:
         return table
     cost = table.loc[done, "seconds_per_step"].to_numpy(dtype=float)
     n = table.loc[done, "blocks"].to_numpy(dtype=float)
     memory = table.loc[done, "peak_rss_above_baseline_MB"].to_numpy(dtype=float)
     log_n = np.log(n[1:] / n[:-1])
-    table.loc[done, "growth_exponent_vs_previous"] = np.concatenate([[np.nan], np.log(cost[1:] / cost[:-1]) / log_n])
+    table.loc[done, "growth_exponent_vs_previous"] = np.concatenate(
+        [[np.nan], np.log(cost[1:] / cost[:-1]) / log_n]
+    )
     with np.errstate(invalid="ignore", divide="ignore"):
-        positive = np.where(memory > 0, memory, np.nan)
+        positive = np.where(memory >= MEMORY_RESOLUTION_MB, memory, np.nan)
         table.loc[done, "memory_growth_exponent"] = np.concatenate(
             [[np.nan], np.log(positive[1:] / positive[:-1]) / log_n]
         )
@@ -316,38 +337,51 @@ def _derived(table: pd.DataFrame) -> pd.DataFrame:
     return table
 
 
-def _references(ax, n: np.ndarray, n0: float, y0: float) -> None:
+def _references(ax, n: np.ndarray, n0: float, y0: float, anchor: str) -> None:
     """Lines of slope N and N log N through (n0, y0)."""
     grid = np.geomspace(n.min(), n.max(), 50)
-    ax.plot(grid, y0 * grid / n0, "k:", lw=1, label="∝ N (through the smallest size)")
+    ax.plot(grid, y0 * grid / n0, "k:", lw=1, label=f"∝ N (through the {anchor})")
     ax.plot(grid, y0 * grid * np.log(grid) / (n0 * math.log(n0)), "k--", lw=1, label="∝ N log N")
 
 
 def scaling_figure(table: pd.DataFrame, dpi: int = 120) -> Figure:
     """Log-log: the time per step (and the contact search at step 0) against the number of blocks,
     and the peak RSS (total and above the baseline process), with N and N log N reference lines
-    through the smallest size."""
-    done = table[table["skipped"] == ""]
+    through the smallest size (for the memory, the smallest at least MEMORY_RESOLUTION_MB above the
+    baseline: below, the peak is noise)."""
+    from matplotlib.figure import Figure  # here: the measuring processes need no matplotlib
+
+    done = table[_measured(table)]
+    if done.empty:
+        raise ValueError("no size of the scaling table was measured: nothing to plot")
     n = done["blocks"].to_numpy(dtype=float)
     fig = Figure(figsize=(11, 4.5), dpi=dpi, layout="constrained")
     time_ax, memory_ax = fig.subplots(1, 2)
     seconds = done["seconds_per_step"].to_numpy(dtype=float)
     time_ax.plot(n, seconds * 1e3, "o-", label="cycle (per step)")
-    time_ax.plot(n, done["initial_search_s"].to_numpy(dtype=float) * 1e3, "s-", label="contact search at step 0")
-    if len(n):
-        _references(time_ax, n, n[0], seconds[0] * 1e3)
+    time_ax.plot(
+        n, done["initial_search_s"].to_numpy(dtype=float) * 1e3, "s-", label="contact search at step 0"
+    )
+    _references(time_ax, n, n[0], seconds[0] * 1e3, "smallest size")
     time_ax.set(xscale="log", yscale="log", xlabel="blocks [1]", ylabel="wall-clock time [ms]")
     time_ax.set_title("Time per step (one core)")
     above = done["peak_rss_above_baseline_MB"].to_numpy(dtype=float)
     memory_ax.plot(n, done["peak_rss_MB"].to_numpy(dtype=float), "o-", label="peak RSS")
-    memory_ax.plot(n, above, "s-", label="peak RSS above the baseline process")
-    memory_ax.axhline(done["baseline_rss_MB"].iloc[0] if len(done) else np.nan, color="0.6", lw=1,
-                      label="baseline process (bbmc imported, kernels loaded)")
-    first = np.flatnonzero(above > 0)
+    resolved = np.where(above >= MEMORY_RESOLUTION_MB, above, np.nan)  # below: noise, or negative
+    memory_ax.plot(
+        n, resolved, "s-", label=f"peak RSS above the baseline process (where ≥ {MEMORY_RESOLUTION_MB:g} MB)"
+    )
+    memory_ax.axhline(
+        done["baseline_rss_MB"].iloc[0],
+        color="0.6",
+        lw=1,
+        label="baseline process (bbmc imported, kernels loaded)",
+    )
+    first = np.flatnonzero(above >= MEMORY_RESOLUTION_MB)
     if len(first):
-        _references(memory_ax, n, n[first[0]], above[first[0]])
+        _references(memory_ax, n, n[first[0]], above[first[0]], "smallest size shown")
     memory_ax.set(xscale="log", yscale="log", xlabel="blocks [1]", ylabel="resident set size [MB]")
-    memory_ax.set_title("Peak memory (ru_maxrss of the process)")
+    memory_ax.set_title("Peak memory (peak resident set size of the process)")
     for ax in (time_ax, memory_ax):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)

@@ -22,7 +22,7 @@ monitored point (0, 0, 0).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -34,7 +34,7 @@ from bbmc import joint_model as jm
 from bbmc import laws, units
 from bbmc.config import Section
 from bbmc.dem.layout import SLIPPED
-from bbmc.dem.model import build_model
+from bbmc.dem.model import EVERY_ECONOMY, Economy, build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.solver import simulate
 
@@ -258,16 +258,16 @@ def constant_velocity_scene(
     return scene
 
 
-def _simulate(scene: dict):
+def _simulate(scene: dict, economy: Economy):
     model = build_model(Scene.model_validate(scene), Path(f"<{scene['name']}>"))
-    return simulate(model)
+    return simulate(replace(model, economy=economy))
 
 
-def run_stress_controlled(scene: dict) -> Outcome:
+def run_stress_controlled(scene: dict, economy: Economy = EVERY_ECONOMY) -> Outcome:
     """Run a stress-controlled test and classify how it ended: "holds" (equilibrium), "slides" (moved
     slide_limit_mm and slipped), "runs off" (moved that far without slip: K_s at its floor) or "not
     settled" (max_steps reached)."""
-    result = _simulate(scene)
+    result = _simulate(scene, economy)
     summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
     h = result.history
     slipped = bool(np.any(result.state.subs[:, SLIPPED] > 0))
@@ -286,7 +286,7 @@ def run_stress_controlled(scene: dict) -> Outcome:
 def run_constant_velocity(scene: dict) -> pd.DataFrame:
     """The tau-d_h curve of a constant-velocity test from the start of shearing: d_h [mm], tau, sigma_n
     [MPa], time [s] since shearing began."""
-    h = _simulate(scene).history
+    h = _simulate(scene, EVERY_ECONOMY).history
     start = next(b for b in scene["blocks"] if b["name"] == "upper")["velocity"]["start_step"]
     h = h[h["step"] >= start]
     return pd.DataFrame(

@@ -1,20 +1,26 @@
-"""`bbmc bench`: throughput of the joint laws, measured side by side in one run (results/bench/).
+"""`bbmc bench`: what speed costs in accuracy on the paper's scenes, what the engine leaves out, how it
+grows, and the joint laws' throughput; everything measured side by side in one run (results/bench/).
 
-For each law: evaluations per second as a numpy ufunc over an array, inside an njit kernel loop, and as
-the plain Python source in a Python loop (its calls to other laws still run compiled, so the
-python column flatters plain Python for the composite laws), plus the ratios between them. Wall-clock
-numbers depend on the machine and its load; the ratios, measured in the same run, are what to
-compare across machines.
+tradeoff.csv / tradeoff_readings.csv / recommended.csv / tradeoff.png: each solver knob varied alone on
+the paper's scenes against a converged reference (`bbmc.bench.tradeoff`).
+economy.csv: the gain of each piece of work the engine leaves out, and that it changes no number
+(`bbmc.bench.economy`).
+scaling.csv / scaling.png: time per step and peak memory on generated jointed slopes of growing size
+(`bbmc.dem.scaling`).
 
-engine.csv: the block engine's steps and sub-contact updates per second on generated brick walls of
-increasing size, and how its cost per step grows with the number of blocks (`bbmc.dem.benchmark`).
+laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
+loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
+the python column flatters plain Python for the composite laws), plus the ratios between them.
+
+Wall-clock numbers depend on the machine and its load; the ratios, measured in the same run, are what
+to compare across machines.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import Annotated
+from typing import Annotated, Literal
 
 import numba
 import numpy as np
@@ -22,26 +28,76 @@ import pandas as pd
 from pydantic import Field
 
 from bbmc import laws, units
-from bbmc.config import Section
-from bbmc.dem.benchmark import engine_table
+from bbmc.bench import tradeoff as to
+from bbmc.bench.economy import economy_table
+from bbmc.bench.paper_scenes import ShearScene, SlopeScene
+from bbmc.config import InputFile, Section
+from bbmc.dem.scaling import scaling_figure, scaling_table
 from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
 
 NAME = "bench"
 
 
-class EngineBench(Section):
-    block_counts: list[Annotated[int, Field(ge=10, le=1_000_000)]] = Field(min_length=1)
-    sub_contacts_per_edge: int = Field(ge=1, le=64)
-    steps: int = Field(ge=10, le=1_000_000)
-    repeats: int = Field(ge=1, le=100)
+Fraction = Annotated[float, Field(gt=0, le=1)]
+Interval = Annotated[int, Field(ge=1, le=100_000)]
+SubContacts = Annotated[int, Field(ge=1, le=64)]
+Repeats = Annotated[int, Field(ge=1, le=100)]
+
+
+class KnobValues(Section):
+    """The values each knob takes, one knob at a time (the others at the scene's own settings)."""
+
+    update_interval_steps: list[Interval] = Field(min_length=1)
+    safety_factor: list[Fraction] = Field(min_length=1)
+    sub_contacts_per_edge: list[SubContacts] = Field(min_length=1)
+    damping: list[Annotated[float, Field(ge=0, lt=1)]] = Field(min_length=1)
+    density_scaling: list[Annotated[float, Field(ge=1, le=10_000)]] = Field(min_length=1)
+
+
+class Accurate(Section):
+    """The accurate end of the knobs: the reference, or the overrides of its check."""
+
+    update_interval_steps: Interval | None = None
+    safety_factor: Fraction | None = None
+    sub_contacts_per_edge: SubContacts | None = None
+
+
+class Tradeoff(Section):
+    shear_config: InputFile
+    slope_config: InputFile
+    scenes: list[Literal["shear", "slope_barton_bandis", "slope_constant"]] = Field(min_length=1)
+    knobs: KnobValues
+    reference: Accurate
+    reference_check: Accurate
+    target_error: Annotated[float, Field(gt=0, lt=1)]
+    repeats: Repeats
+    figure_error_floor: Annotated[float, Field(gt=0, lt=1)] = 1e-7
+
+
+class Economies(Section):
+    repeats: Repeats
+
+
+class Scaling(Section):
+    block_counts: list[Annotated[int, Field(ge=10, le=1_000_000)]] = Field(min_length=2)
+    steps: Annotated[int, Field(ge=10, le=1_000_000)]
+    repeats: Repeats
+    memory_limit_GB: Annotated[float, Field(gt=0)]
+
+
+class Laws(Section):
+    array_size: int = Field(ge=1_000, le=100_000_000)
+    python_loop_size: int = Field(ge=100, le=10_000_000)
+    repeats: Repeats
 
 
 class Config(Section):
-    array_size: int = Field(ge=1_000, le=100_000_000)
-    python_loop_size: int = Field(ge=100, le=10_000_000)
-    repeats: int = Field(ge=1, le=100)
-    engine: EngineBench
+    tradeoff: Tradeoff
+    economy: Economies
+    scaling: Scaling
+    laws: Laws
+    figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
 
 @numba.njit(cache=True)
@@ -80,7 +136,7 @@ def _best_seconds(action: Callable[[], object], repeats: int) -> float:
     return best
 
 
-def run(config: Config) -> StageResult:
+def law_table(config: Laws) -> pd.DataFrame:
     """Time every law three ways on the same inputs (after a warm-up call compiles them)."""
     rows = []
     values = np.geomspace(1.0, 1e8, config.array_size)
@@ -111,8 +167,42 @@ def run(config: Config) -> StageResult:
                 "python_loop_size": small.size,
             }
         )
-    engine = config.engine
-    table = engine_table(
-        sorted(engine.block_counts), engine.sub_contacts_per_edge, engine.steps, engine.repeats
+    return pd.DataFrame(rows)
+
+
+def paper_scenes(config: Tradeoff) -> list:
+    """The scenes the tradeoff and the economies run, in the config's order."""
+    made = {
+        "shear": lambda: ShearScene(config.shear_config),
+        "slope_barton_bandis": lambda: SlopeScene(config.slope_config, "barton_bandis"),
+        "slope_constant": lambda: SlopeScene(config.slope_config, "constant"),
+    }
+    return [made[name]() for name in config.scenes]
+
+
+def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
+    """The trade, the economies, the scaling study and the laws' throughput."""
+    t = config.tradeoff
+    scenes = paper_scenes(t)
+    values = t.knobs.model_dump()
+    reference, check = (a.model_dump(exclude_none=True) for a in (t.reference, t.reference_check))
+    parts = [to.scene_tradeoff(s, values, reference, check, t.repeats, progress) for s in scenes]
+    trade = pd.concat([p[0] for p in parts], ignore_index=True)
+    economies = economy_table(scenes, config.economy.repeats, progress)
+    s = config.scaling
+    growth = scaling_table(s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 2**30, progress=progress)
+    progress("joint laws' throughput")
+    return StageResult(
+        tables={
+            "tradeoff": trade,
+            "tradeoff_readings": pd.concat([p[1] for p in parts], ignore_index=True),
+            "recommended": to.recommended(trade, t.target_error),
+            "economy": economies,
+            "scaling": growth,
+            "laws": law_table(config.laws),
+        },
+        figures={
+            "tradeoff": to.tradeoff_figure(trade, t.figure_error_floor, config.figure_dpi),
+            "scaling": scaling_figure(growth, config.figure_dpi),
+        },
     )
-    return StageResult(tables={"laws": pd.DataFrame(rows), "engine": table})

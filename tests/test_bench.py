@@ -1,0 +1,126 @@
+"""`bbmc bench`'s parts: the Pareto front and the error on known answers, every economy exact on the
+paper's scenes, and the stage run into a temporary folder with a small config."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bbmc.bench.economy import economy_table
+from bbmc.bench.paper_scenes import Reading, ShearScene, SlopeScene, relative_error
+from bbmc.bench.tradeoff import pareto_front
+from stage_runs import CONFIGS, config_copy, run_stage
+
+
+def test_pareto_front_keeps_exactly_the_undominated_runs():
+    seconds = np.array([1.0, 2.0, 3.0, 2.5, 0.5, 4.0])
+    error = np.array([0.1, 0.01, 0.001, 0.05, math.inf, 0.001])
+    assert pareto_front(seconds, error).tolist() == [True, True, True, False, False, False]
+
+
+def _reading(values, statuses=None) -> Reading:
+    values = np.array(values, dtype=float)
+    return Reading(values, statuses or ("holds",) * len(values), 1.0, 1)
+
+
+def test_relative_error_is_scaled_by_the_largest_reference_value_and_infinite_when_an_outcome_changes():
+    reference = _reading([2.0, 0.01, math.inf], ("holds", "holds", "slides"))
+    assert relative_error(_reading([2.1, 0.02, math.inf], ("holds", "holds", "slides")), reference) == (
+        pytest.approx(0.05)
+    )
+    assert relative_error(_reading([2.0, 0.01, 3.0], ("holds", "holds", "holds")), reference) == math.inf
+    assert relative_error(reference, reference) == 0.0
+
+
+@pytest.fixture(scope="module")
+def scenes():
+    return [
+        ShearScene(CONFIGS / "shear.yaml"),
+        SlopeScene(CONFIGS / "slope.yaml", "barton_bandis"),
+        SlopeScene(CONFIGS / "slope.yaml", "constant"),
+    ]
+
+
+def test_every_economy_changes_no_number_on_the_paper_scenes(scenes):
+    table = economy_table(scenes, 1, lambda _: None)
+    assert len(table) == 3 * 4
+    assert table["identical_results"].all(), table[~table["identical_results"]]
+
+
+def test_slope_reading_is_the_displacement_of_blocks_1_to_4_at_the_end_of_the_run(scenes):
+    slope = scenes[1]
+    reading = slope.read(slope.defaults())
+    assert reading.statuses == ("ran its time",) * 4
+    assert np.all((reading.values > 0) & (reading.values < 0.01))  # the B-B slope creeps by millimetres
+
+
+def _small(data):
+    t = data["tradeoff"]
+    for key in ("shear_config", "slope_config"):
+        t[key] = str((CONFIGS / t[key]).resolve())
+    t["scenes"] = ["shear", "slope_barton_bandis"]
+    t["knobs"] = {
+        "update_interval_steps": [1, 200],
+        "safety_factor": [0.9],
+        "sub_contacts_per_edge": [2],
+        "damping": [0.5],
+        "density_scaling": [5],
+    }
+    t["reference"] = {"update_interval_steps": 1, "safety_factor": 0.25, "sub_contacts_per_edge": 4}
+    t["reference_check"] = {"safety_factor": 0.125}
+    t["repeats"] = 1
+    data["economy"]["repeats"] = 1
+    data["scaling"] = {"block_counts": [100, 300], "steps": 20, "repeats": 1, "memory_limit_GB": 4}
+    data["laws"] = {"array_size": 2000, "python_loop_size": 200, "repeats": 1}
+
+
+@pytest.fixture(scope="module")
+def bench_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("bench")
+    outcome = run_stage("bench", folder / "results", config_copy(folder, "bench", _small))
+    assert outcome.exit_code == 0, outcome.output
+    return folder / "results" / "bench"
+
+
+def test_bench_writes_every_file(bench_run):
+    names = {p.name for p in bench_run.iterdir()}
+    for stem in ("tradeoff", "scaling"):
+        assert {f"{stem}.csv", f"{stem}.png"} <= names
+    assert {"tradeoff_readings.csv", "recommended.csv", "economy.csv", "laws.csv", "provenance.json"} <= names
+
+
+def test_tradeoff_varies_one_knob_at_a_time_against_the_reference(bench_run):
+    table = pd.read_csv(bench_run / "tradeoff.csv", dtype={"value": str})
+    for _, rows in table.groupby("scene"):
+        default = rows[rows["knob"] == "default"].iloc[0]
+        assert default["time_over_default"] == 1.0
+        safety = rows[rows["knob"] == "safety_factor"].iloc[0]
+        assert safety["safety_factor"] == 0.9
+        assert safety["update_interval_steps"] == default["update_interval_steps"]
+        reference = rows[rows["knob"] == "reference"].iloc[0]
+        assert reference["error_measured_against"] == "reference_check"
+        assert np.isfinite(reference["relative_error"])
+        assert rows["on_pareto_front"].any()
+    slope = table[table["scene"] == "slope_barton_bandis"].set_index("knob")
+    # the automatic step is proportional to the safety factor: 0.9 takes about 0.5 / 0.9 of the steps
+    assert slope.loc["safety_factor", "steps"] / slope.loc["default", "steps"] == pytest.approx(
+        0.5 / 0.9, rel=0.1
+    )
+    # the paper's 50 steps lag the B-B update: further from the reference than updating every step
+    updates = table[(table["scene"] == "slope_barton_bandis") & (table["knob"] == "update_interval_steps")]
+    every, rarely = updates.set_index("value")["relative_error"].loc[["1", "200"]]
+    assert every < rarely
+
+
+def test_recommended_value_is_the_fastest_within_the_target(bench_run):
+    table = pd.read_csv(bench_run / "tradeoff.csv", dtype={"value": str})
+    for row in pd.read_csv(bench_run / "recommended.csv", dtype={"fastest_within_target": str}).itertuples():
+        runs = table[(table["scene"] == row.scene) & (table["knob"] == row.knob)]
+        within = runs[runs["relative_error"] <= row.target_error]
+        if within.empty:
+            assert pd.isna(row.fastest_within_target)
+        else:
+            assert within.loc[within["seconds"].idxmin(), "value"] == row.fastest_within_target
