@@ -60,7 +60,7 @@ def test_slope_reading_is_the_displacement_of_blocks_1_to_4_at_the_end_of_the_ru
 def _small(data):
     t = data["tradeoff"]
     for key in ("shear_config", "slope_config"):
-        t[key] = str((CONFIGS / t[key]).resolve())
+        data[key] = str((CONFIGS / data[key]).resolve())
     t["scenes"] = ["shear", "slope_barton_bandis"]
     t["knobs"] = {
         "update_interval_steps": [1, 200],

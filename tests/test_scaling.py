@@ -1,4 +1,4 @@
-"""The scaling study (bbmc.dem.scaling): scaled slopes of the asked size, a small table measured in
+"""The scaling study (bbmc.bench.scaling): scaled slopes of the asked size, a small table measured in
 fresh processes with its derived columns, the memory estimate that skips a size, and the figure."""
 
 from __future__ import annotations
@@ -9,14 +9,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from bbmc.dem import scaling
+from bbmc.bench import scaling
 from bbmc.dem.model import build_model
 from bbmc.dem.scene import Scene
+from stage_runs import CONFIGS
+
+SLOPE = str(CONFIGS / "slope.yaml")
 
 
 @pytest.mark.parametrize("blocks", [100, 1000])
 def test_scaled_slope_has_about_the_blocks_asked(blocks):
-    scene = Scene.model_validate(scaling.scaled_slope(blocks), strict=False)
+    scene = Scene.model_validate(scaling.scaled_slope(blocks, SLOPE), strict=False)
     model = build_model(scene, Path("scaled.yaml"))
     assert blocks / 1.5 <= len(model.block_names) <= 1.5 * blocks
     sets = scene.blocks[0].jointed_slope.joint_sets
@@ -28,14 +31,14 @@ def test_scaled_slope_has_about_the_blocks_asked(blocks):
 
 
 def test_paper_scale_is_the_paper_slope():
-    assert scaling.spacing_scale(34) == pytest.approx(1.0)
+    assert scaling.spacing_scale(34, SLOPE) == pytest.approx(1.0)
     with pytest.raises(ValueError, match="at least 1"):
-        scaling.spacing_scale(0)
+        scaling.spacing_scale(0, SLOPE)
 
 
 def test_small_table_measured_in_processes_and_derived_columns():
     ballast = np.ones(60_000_000)  # 480 MB here: a process started from this one must not report it
-    table = scaling.scaling_table([300, 100], steps=20, repeats=1, memory_limit_bytes=2**34, min_timed_s=0.0)
+    table = scaling.scaling_table([300, 100], 20, 1, 2**34, SLOPE, min_timed_s=0.0)
     assert list(table["blocks_asked"]) == [100, 300]
     assert (table["skipped"] == "").all()
     for column in ("seconds_per_step", "initial_search_s", "generation_and_build_s", "peak_rss_MB"):
@@ -65,12 +68,12 @@ def test_small_table_measured_in_processes_and_derived_columns():
 
 
 def test_a_size_estimated_above_the_memory_limit_is_skipped(monkeypatch):
-    def fake(blocks, steps, repeats, min_timed_s):  # 1 kB per block above a 200 MB baseline
+    def fake(blocks, steps, repeats, slope_config, min_timed_s):  # 1 kB per block above a 200 MB baseline
         return {"blocks": blocks, "seconds_per_step": 1e-6 * blocks, "peak_rss_MB": 200 + 1e-3 * blocks}
 
-    monkeypatch.setattr(scaling, "baseline", lambda timeout_s=None: 200.0)
+    monkeypatch.setattr(scaling, "baseline", lambda slope_config, timeout_s=None: 200.0)
     monkeypatch.setattr(scaling, "measure", fake)
-    table = scaling.scaling_table([10_000, 100_000, 1_000_000], 10, 1, memory_limit_bytes=1.0e9)
+    table = scaling.scaling_table([10_000, 100_000, 1_000_000], 10, 1, 1.0e9, SLOPE)
     assert list(table["skipped"] == "") == [True, True, False]
     assert "above the limit" in table["skipped"].iloc[2]
     # 10 MB above the baseline at 1e4, 100 MB at 1e5: linear; 1e6 is estimated at 200 + 1.5 x 1000 MB

@@ -6,7 +6,7 @@ the paper's scenes against a converged reference (`bbmc.bench.tradeoff`).
 economy.csv: the gain of each piece of work the engine leaves out, and that it changes no number
 (`bbmc.bench.economy`).
 scaling.csv / scaling.png: time per step and peak memory on generated jointed slopes of growing size
-(`bbmc.dem.scaling`).
+(`bbmc.bench.scaling`).
 
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
@@ -31,8 +31,8 @@ from bbmc import laws, units
 from bbmc.bench import tradeoff as to
 from bbmc.bench.economy import economy_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
+from bbmc.bench.scaling import scaling_figure, scaling_table
 from bbmc.config import InputFile, Section
-from bbmc.dem.scaling import scaling_figure, scaling_table
 from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
 
@@ -64,8 +64,6 @@ class Accurate(Section):
 
 
 class Tradeoff(Section):
-    shear_config: InputFile
-    slope_config: InputFile
     scenes: list[Literal["shear", "slope_barton_bandis", "slope_constant"]] = Field(min_length=1)
     knobs: KnobValues
     reference: Accurate
@@ -93,6 +91,8 @@ class Laws(Section):
 
 
 class Config(Section):
+    shear_config: InputFile  # the paper's scenes, exactly as bbmc shear and bbmc slope build them
+    slope_config: InputFile
     tradeoff: Tradeoff
     economy: Economies
     scaling: Scaling
@@ -170,27 +170,29 @@ def law_table(config: Laws) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def paper_scenes(config: Tradeoff) -> list:
+def paper_scenes(config: Config) -> list:
     """The scenes the tradeoff and the economies run, in the config's order."""
     made = {
         "shear": lambda: ShearScene(config.shear_config),
         "slope_barton_bandis": lambda: SlopeScene(config.slope_config, "barton_bandis"),
         "slope_constant": lambda: SlopeScene(config.slope_config, "constant"),
     }
-    return [made[name]() for name in config.scenes]
+    return [made[name]() for name in config.tradeoff.scenes]
 
 
 def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
     """The trade, the economies, the scaling study and the laws' throughput."""
     t = config.tradeoff
-    scenes = paper_scenes(t)
+    scenes = paper_scenes(config)
     values = t.knobs.model_dump()
     reference, check = (a.model_dump(exclude_none=True) for a in (t.reference, t.reference_check))
     parts = [to.scene_tradeoff(s, values, reference, check, t.repeats, progress) for s in scenes]
     trade = pd.concat([p[0] for p in parts], ignore_index=True)
     economies = economy_table(scenes, config.economy.repeats, progress)
     s = config.scaling
-    growth = scaling_table(s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 2**30, progress=progress)
+    growth = scaling_table(
+        s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 2**30, config.slope_config, progress=progress
+    )
     progress("joint laws' throughput")
     return StageResult(
         tables={

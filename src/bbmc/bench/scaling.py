@@ -1,19 +1,18 @@
 """Scaling of the block engine on generated jointed slopes: time per step and peak memory against
 the number of blocks (results/bench/scaling.csv and its figure).
 
-Each system is the paper's slope (configs/slope.yaml, section 5: 10 m high, 60 deg face, a bedding
-set dipping 20 deg out of the face every 2.5 m, a joint set dipping 80 deg into the slope every
-5 m, 34 blocks) with both spacings shrunk by the same factor, so that the generator cuts about the
-number of blocks asked (`spacing_scale`; the count is not exact, the table gives the actual one).
-Joints are Table 4's constant Mohr-Coulomb joints (K_n = K_s = 10.7 MPa/mm, phi = 14.51 deg,
-c = 5.4 kPa, cohesion lost at slip), the rock its density (2300 kg/m3); gravity, automatic time step
-(safety factor 0.5), local damping 0.8, 4 sub-contacts per edge: `bbmc.slope.model.slope_scene`.
+Each system is the slope of a `bbmc slope` config (configs/slope.yaml: the paper's section 5, 34
+blocks) with every joint set's spacing shrunk by the same factor, so that the generator cuts about the
+number of blocks asked (`spacing_scale`; the count is not exact, the table gives the actual one). Its
+joints are the config's constant Mohr-Coulomb joints (Table 4, read from the config's data files), its
+run settings the config's (`run`: damping, safety factor, sub-contacts per edge), built by
+`bbmc.slope.model.slope_scene`.
 
 Each size runs in a fresh Python process, so that its peak resident set size (VmHWM on Linux, else
 ru_maxrss: both see numba's and numpy's allocations as well as Python's) is its own. The table also
 gives the peak of a process that only imports bbmc and loads the compiled kernels (on the paper slope
 itself, `BASELINE_BLOCKS`), and each size's peak above it. Times are wall-clock on one core: the generation
-and model build once, the contact search at step 0 (`prepare`) and the cycles (`advance`, including
+and the model's build once, the contact search at step 0 (`prepare`) and the cycles (`advance`, including
 every contact search they trigger) best of the repeats. Compare ratios between sizes, not absolute
 numbers across machines.
 """
@@ -34,39 +33,18 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
+from bbmc.config import load_config
 from bbmc.dem import layout as L
 from bbmc.dem import polygons
 from bbmc.dem.model import build_model
 from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import advance, prepare
 from bbmc.slope import model as sm
+from bbmc.stages import slope as slope_stage
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-PAPER_SLOPE = JointedSlope(
-    height_m=10.0,
-    face_angle_deg=60.0,
-    crest_extent_m=25.0,
-    toe_extent_m=0.0,
-    depth_m=0.0,
-    joint_sets=[
-        {"dip_deg": 20.0, "dip_direction_to_face_deg": 0.0, "spacing_m": 2.5, "offset_m": 0.0},
-        {"dip_deg": 80.0, "dip_direction_to_face_deg": 180.0, "spacing_m": 5.0, "offset_m": 0.0},
-    ],
-    min_block_fraction=0.02,
-    fixed_boundaries=["right", "bottom"],
-)  # configs/slope.yaml's slope
-DENSITY_KG_M3 = 2300.0  # Table 4 (data/paper/table4_rock_mass.csv)
-CONSTANT_JOINT = {
-    "law": "constant",
-    "kn_MPa_per_mm": 10.7,
-    "ks_MPa_per_mm": 10.7,
-    "cohesion_MPa": 0.0054,
-    "friction_deg": 14.51,
-    "after_slip": "zero",
-}  # Table 4's constant joint (data/paper/table4_joints_constant.csv), 3DEC's Coulomb slip
-RUN = sm.Run(damping=0.8, safety_factor=0.5, sub_contacts_per_edge=4)
 BASELINE_BLOCKS = 34  # the paper slope: the baseline process loads every kernel on it
 CALIBRATION_SCALE = 1.0 / 3.0  # the second spacing factor at which the block count is calibrated
 NLOGN_SLACK = 1.5  # within_NlogN: cost / (N log N) at most this many times the smallest size's
@@ -77,42 +55,53 @@ MB = 1.0e6
 MAXRSS_BYTES = 1 if sys.platform == "darwin" else 1024  # ru_maxrss is in bytes on macOS, kB on Linux
 
 
-def _slope(scale: float) -> JointedSlope:
-    sets = [s.model_copy(update={"spacing_m": s.spacing_m * scale}) for s in PAPER_SLOPE.joint_sets]
-    return PAPER_SLOPE.model_copy(update={"joint_sets": sets})
+@functools.cache
+def _paper_slope(slope_config: str) -> tuple[JointedSlope, float, dict, sm.Run]:
+    """The slope, rock density [kg/m3], constant joint-law entry and run settings of a slope config."""
+    config = load_config(slope_config, slope_stage.Config)
+    table4 = slope_stage.load_table4(config.data)
+    law = sm.joint_law("constant", table4, config.constant, config.barton_bandis)
+    return config.slope, table4.density_kg_m3, law, config.run
 
 
-def _block_count(scale: float) -> int:
-    slope = _slope(scale).model_dump()
+def _slope(slope_config: str, scale: float) -> JointedSlope:
+    slope = _paper_slope(slope_config)[0]
+    sets = [s.model_copy(update={"spacing_m": s.spacing_m * scale}) for s in slope.joint_sets]
+    return slope.model_copy(update={"joint_sets": sets})
+
+
+def _block_count(slope_config: str, scale: float) -> int:
+    slope = _slope(slope_config, scale).model_dump()
     return len(polygons.jointed_slope(**{k: v for k, v in slope.items() if k != "fixed_boundaries"}))
 
 
 @functools.cache
-def _count_law() -> tuple[float, float]:
+def _count_law(slope_config: str) -> tuple[float, float]:
     """(a, b) of count(s) = a / s^2 + b / s for spacings scaled by s: whole cells fill the profile's
     area (a), cut cells along its boundary add a term in its perimeter (b); fitted through the counts
     at s = 1 (the paper's slope) and s = CALIBRATION_SCALE."""
     s1, s2 = 1.0, CALIBRATION_SCALE
-    n1, n2 = _block_count(s1), _block_count(s2)
+    n1, n2 = _block_count(slope_config, s1), _block_count(slope_config, s2)
     u1, u2 = 1 / s1, 1 / s2  # n1 = a u1^2 + b u1, n2 = a u2^2 + b u2
     a = (n2 * u1 - n1 * u2) / (u2 * u2 * u1 - u1 * u1 * u2)
     b = (n1 - a * u1 * u1) / u1
     return a, b
 
 
-def spacing_scale(blocks: int) -> float:
-    """The factor on the paper slope's joint spacings that gives about `blocks` blocks."""
+def spacing_scale(blocks: int, slope_config: str) -> float:
+    """The factor on the config slope's joint spacings that gives about `blocks` blocks."""
     if blocks < 1:
         raise ValueError(f"blocks must be at least 1, got {blocks}")
-    a, b = _count_law()
+    a, b = _count_law(slope_config)
     inverse = (-b + math.sqrt(b * b + 4 * a * blocks)) / (2 * a)  # a u^2 + b u = blocks, u = 1 / s
     return 1.0 / inverse
 
 
-def scaled_slope(blocks: int) -> dict:
-    """The scene (a dict in the scene format) of the paper slope cut into about `blocks` blocks."""
-    scale = spacing_scale(blocks)
-    scene = sm.slope_scene(f"scaled_slope_{blocks}", _slope(scale), DENSITY_KG_M3, CONSTANT_JOINT, RUN, [])
+def scaled_slope(blocks: int, slope_config: str) -> dict:
+    """The scene (a dict in the scene format) of the config's slope cut into about `blocks` blocks."""
+    scale = spacing_scale(blocks, slope_config)
+    _, density, law, run = _paper_slope(slope_config)
+    scene = sm.slope_scene(f"scaled_slope_{blocks}", _slope(slope_config, scale), density, law, run, [])
     scene["description"] = (
         f"The paper's jointed slope (bbmc slope) with joint spacings x {scale:.4g}: about {blocks} blocks."
     )
@@ -133,36 +122,16 @@ def _peak_rss_bytes() -> float:
     return float(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * MAXRSS_BYTES)
 
 
-class _Timed:
-    """Wraps a function and adds up the wall-clock time spent in it."""
-
-    def __init__(self, function):
-        self.function, self.seconds = function, 0.0
-
-    def __call__(self, *args, **kwargs):
-        start = time.perf_counter()
-        try:
-            return self.function(*args, **kwargs)
-        finally:
-            self.seconds += time.perf_counter() - start
-
-
-def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float = 0.5) -> dict:
+def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float, slope_config: str) -> dict:
     """`measure`, in this process (its peak RSS is this process's peak so far).
 
     The cycles are repeated at least `repeats` times, and more (up to 100) while less than
     `min_timed_s` of cycles has been timed, each repeat from a fresh `prepare`; the best is kept."""
-    _run_kernels()  # load every compiled kernel first: the first timed search would include it
-    entry = scaled_slope(blocks)  # the block count's calibration is not timed
-    generator = _Timed(polygons.jointed_slope)
-    polygons.jointed_slope = generator  # build_model calls it through the module: time its share
-    try:
-        start = time.perf_counter()
-        scene = Scene.model_validate(entry, strict=False)
-        model = build_model(scene, Path(f"<scaled slope of about {blocks} blocks>"))
-        build_s = time.perf_counter() - start
-    finally:
-        polygons.jointed_slope = generator.function
+    _run_kernels(slope_config)  # load every compiled kernel first: the first timed search would include it
+    entry = scaled_slope(blocks, slope_config)  # the block count's calibration is not timed
+    start = time.perf_counter()
+    model = build_model(Scene.model_validate(entry, strict=False), Path(f"<slope of about {blocks} blocks>"))
+    build_s = time.perf_counter() - start
     peak_after_build = _peak_rss_bytes()
     best_search, best_cycles, timed, runs = math.inf, math.inf, 0.0, 0
     while runs < repeats or (timed < min_timed_s and runs < 100):
@@ -177,7 +146,7 @@ def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float = 0.5
         "blocks_asked": blocks,
         "blocks": len(model.block_names),
         "free_blocks": int(np.sum(~np.all(model.dof == L.PRESCRIBED, axis=1))),
-        "spacing_scale": spacing_scale(blocks),
+        "spacing_scale": spacing_scale(blocks, slope_config),
         "contacts": len(state.contacts),
         "sub_contacts": len(state.subs),
         "active_sub_contacts": int(np.sum(state.subs[:, L.LENGTH] > 0)),
@@ -185,7 +154,6 @@ def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float = 0.5
         "timed_runs": runs,
         "time_step_s": float(state.dt_range[0]),
         "contact_searches_during_cycles": state.searches - 1,
-        "generation_s": generator.seconds,
         "generation_and_build_s": build_s,
         "initial_search_s": best_search,
         "cycles_s": best_cycles,
@@ -196,22 +164,22 @@ def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float = 0.5
     }
 
 
-def _run_kernels() -> None:
-    """A few cycles of the paper slope: every kernel a run uses is compiled or loaded from the cache."""
-    scene = Scene.model_validate(scaled_slope(BASELINE_BLOCKS), strict=False)
+def _run_kernels(slope_config: str) -> None:
+    """A few cycles of the config's slope: every kernel a run uses is compiled or loaded from the cache."""
+    scene = Scene.model_validate(scaled_slope(BASELINE_BLOCKS, slope_config), strict=False)
     model = build_model(scene, Path("<the paper slope>"))
     advance(model, prepare(model), 10)
 
 
-def baseline_here() -> dict:
-    """The peak RSS of a process that imports bbmc and runs the kernels on the paper slope."""
-    _run_kernels()
+def baseline_here(slope_config: str) -> dict:
+    """The peak RSS of a process that imports bbmc and runs the kernels on the config's slope."""
+    _run_kernels(slope_config)
     return {"baseline_rss_MB": _peak_rss_bytes() / MB}
 
 
 def _in_subprocess(call: str, timeout_s: float | None) -> dict:
     """Run `bbmc.dem.scaling.<call>` in a fresh interpreter; its JSON answer (the last line printed)."""
-    code = f"import json\nfrom bbmc.dem import scaling\nprint(json.dumps(scaling.{call}))"
+    code = f"import json\nfrom bbmc.bench import scaling\nprint(json.dumps(scaling.{call}))"
     env = dict(os.environ)
     source = str(Path(__file__).resolve().parents[2])  # src/: the package, whether installed or not
     env["PYTHONPATH"] = os.pathsep.join(p for p in (source, env.get("PYTHONPATH")) if p)
@@ -226,19 +194,25 @@ def _in_subprocess(call: str, timeout_s: float | None) -> dict:
 
 
 def measure(
-    blocks: int, steps: int, repeats: int, min_timed_s: float = 0.5, timeout_s: float | None = 3600.0
+    blocks: int,
+    steps: int,
+    repeats: int,
+    slope_config: str,
+    min_timed_s: float = 0.5,
+    timeout_s: float | None = 3600.0,
 ) -> dict:
     """Generate, build and run a scaled slope of about `blocks` blocks in a fresh process: blocks,
     contacts, sub-contacts, times (generation and build, contact search at step 0, `steps` cycles best
     of `repeats`), contact searches during the cycles, and the process's peak RSS [MB = 1e6 bytes]."""
     return _in_subprocess(
-        f"measure_here({int(blocks)}, {int(steps)}, {int(repeats)}, {min_timed_s!r})", timeout_s
+        f"measure_here({int(blocks)}, {int(steps)}, {int(repeats)}, {min_timed_s!r}, {str(slope_config)!r})",
+        timeout_s,
     )
 
 
-def baseline(timeout_s: float | None = 600.0) -> float:
+def baseline(slope_config: str, timeout_s: float | None = 600.0) -> float:
     """Peak RSS [MB] of a fresh process that imports bbmc and loads and runs the compiled kernels."""
-    return _in_subprocess("baseline_here()", timeout_s)["baseline_rss_MB"]
+    return _in_subprocess(f"baseline_here({str(slope_config)!r})", timeout_s)["baseline_rss_MB"]
 
 
 def estimated_peak_MB(rows: list[dict], blocks: int, baseline_MB: float) -> float:
@@ -265,6 +239,7 @@ def scaling_table(
     steps: int,
     repeats: int,
     memory_limit_bytes: float,
+    slope_config: str,
     min_timed_s: float = 0.5,
     progress=None,
 ) -> pd.DataFrame:
@@ -279,9 +254,10 @@ def scaling_table(
     exponent for the peak RSS above the baseline (NaN where either is under MEMORY_RESOLUTION_MB).
     `progress(message)` is called before each process."""
     say = progress or (lambda message: None)
-    _run_kernels()  # compiles and caches the kernels if need be, here: the processes only load them
-    say("baseline process (bbmc imported, kernels loaded)")
-    baseline_MB = baseline()
+    slope_config = str(Path(slope_config).resolve())  # the processes may run elsewhere
+    _run_kernels(slope_config)  # compiles and caches the kernels if need be, here: the processes load them
+    say("scaling: baseline process (bbmc imported, kernels loaded)")
+    baseline_MB = baseline(slope_config)
     rows, measured = [], []
     for blocks in sorted(block_counts):
         estimate = estimated_peak_MB(measured, blocks, baseline_MB)
@@ -291,9 +267,9 @@ def scaling_table(
                 f"estimated peak {estimate:.0f} MB above the limit {memory_limit_bytes / MB:.0f} MB"
             )
         else:
-            say(f"{blocks} blocks, {steps} steps")
+            say(f"scaling: about {blocks} blocks, {steps} steps")
             try:
-                result = measure(blocks, steps, repeats, min_timed_s)
+                result = measure(blocks, steps, repeats, slope_config, min_timed_s)
             except (RuntimeError, subprocess.TimeoutExpired) as error:
                 row["skipped"] = str(error).splitlines()[0]
             else:
