@@ -25,7 +25,7 @@ from bbmc import units
 from bbmc.config import load_config
 from bbmc.dem import layout as L
 from bbmc.dem.model import EVERY_ECONOMY, Economy, Model, build_model
-from bbmc.dem.scene import Scene
+from bbmc.dem.scene import Scene, Solver, TimeStep
 from bbmc.dem.solver import SimulationError, prepare, simulate
 from bbmc.shear import box
 from bbmc.slope import model as sm
@@ -85,8 +85,14 @@ class ShearScene:
         )
 
     def defaults(self) -> Knobs:
+        """The config's schedule and specimen; the box leaves the time step and damping to the engine."""
         c = self.config
-        return Knobs(c.stress_controlled.update_interval_steps, 0.5, c.specimen.sub_contacts_per_edge, 0.8)
+        return Knobs(
+            c.stress_controlled.update_interval_steps,
+            TimeStep().safety_factor,
+            c.specimen.sub_contacts_per_edge,
+            Solver.model_fields["damping"].default,
+        )
 
     def _scene(self, knobs: Knobs, sigma_n: float, tau: float) -> dict:
         c = self.config
