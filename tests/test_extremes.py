@@ -390,8 +390,8 @@ def test_fixed_step_above_critical_is_refused_at_the_stiffness_extremes(
 
 @pytest.mark.parametrize(("kn", "width", "density", "sigma"), STIFFNESS_EXTREMES)
 def test_fixed_step_below_the_damped_critical_step_runs(tmp_path, kn, width, density, sigma):
-    """The refusal is no false alarm: 0.7 x the critical step, below the damped limit 1 / sqrt(1.8) =
-    0.745 of it (damping 0.8), runs to balance with the closure sigma_n / K_n (r)."""
+    """The refusal is no false alarm: 0.7 x the engine's critical step (the damped limit, 0.745 of the
+    undamped one at damping 0.8) runs to balance with the closure sigma_n / K_n (r)."""
     scene = _loaded(kn, sigma, width, density)
     scene["solver"]["time_step"] = {"mode": "fixed", "step_s": 0.7 * _critical_step(tmp_path, scene)}
     result = run_scene(tmp_path, scene)

@@ -13,6 +13,7 @@ from dataclasses import fields, replace
 import numpy as np
 import pandas as pd
 
+from bbmc.bench.paper_scenes import PaperScene, Reading
 from bbmc.dem.model import EVERY_ECONOMY, Economy
 
 WHAT = {
@@ -23,12 +24,12 @@ WHAT = {
 }
 
 
-def _best(scene, economy: Economy, repeats: int):
+def _best(scene: PaperScene, economy: Economy, repeats: int) -> Reading:
     readings = [scene.read(scene.defaults(), economy) for _ in range(repeats)]
     return min(readings, key=lambda r: r.seconds)
 
 
-def economy_table(scenes: list, repeats: int, progress: Callable[[str], None]) -> pd.DataFrame:
+def economy_table(scenes: list[PaperScene], repeats: int, progress: Callable[[str], None]) -> pd.DataFrame:
     rows = []
     for scene in scenes:
         scene.read(scene.defaults())  # warm-up

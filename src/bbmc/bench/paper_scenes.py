@@ -17,9 +17,9 @@ import math
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
-import pandas as pd
 
 from bbmc import units
 from bbmc.config import load_config
@@ -42,6 +42,19 @@ class Knobs:
     density_scaling: float | None = None  # the fixed step over the automatic step at step 0 (None: off)
 
 
+class PaperScene(Protocol):
+    """What the trade and the economies need of a scene."""
+
+    name: str
+    what: str  # what users read off it
+    labels: tuple[str, ...]  # one per value read
+    stress_dependent: bool  # whether its joint laws depend on the stresses (the update interval matters)
+
+    def defaults(self) -> Knobs: ...
+
+    def read(self, knobs: Knobs, economy: Economy = EVERY_ECONOMY) -> Reading: ...
+
+
 @dataclass(frozen=True)
 class Reading:
     """What users read off one run of a scene, and what it cost."""
@@ -52,13 +65,14 @@ class Reading:
     steps: int
 
 
-def _time_step(scene: dict, knobs: Knobs, automatic_step: float) -> dict:
-    if knobs.density_scaling is None:
-        return {"mode": "auto", "safety_factor": knobs.safety_factor}
-    return {
+def _density_scaling(scene: dict, knobs: Knobs) -> None:
+    """Density scaling with a fixed step `knobs.density_scaling` times the scene's automatic step at
+    step 0, in place."""
+    step = knobs.density_scaling * _automatic_step(scene)
+    scene["solver"]["time_step"] = {
         "mode": "density_scaling",
         "safety_factor": knobs.safety_factor,
-        "step_s": knobs.density_scaling * automatic_step,
+        "step_s": step,
     }
 
 
@@ -73,6 +87,7 @@ class ShearScene:
 
     name = "shear"
     what = "d_h of each Table 3 test"
+    stress_dependent = True
 
     def __init__(self, config_path: Path) -> None:
         self.config = load_config(config_path, shear_stage.Config)
@@ -105,7 +120,7 @@ class ShearScene:
         scene["solver"]["damping"] = knobs.damping
         scene["solver"]["time_step"] = {"mode": "auto", "safety_factor": knobs.safety_factor}
         if knobs.density_scaling is not None:
-            scene["solver"]["time_step"] = _time_step(scene, knobs, _automatic_step(scene))
+            _density_scaling(scene, knobs)
         return scene
 
     def read(self, knobs: Knobs, economy: Economy = EVERY_ECONOMY) -> Reading:
@@ -136,6 +151,7 @@ class SlopeScene:
     def __init__(self, config_path: Path, kind: sm.JointModel) -> None:
         self.config = load_config(config_path, slope_stage.Config)
         self.kind, self.name = kind, f"slope_{kind}"
+        self.stress_dependent = kind != "constant"
         self.table4 = slope_stage.load_table4(self.config.data)
         probe = self._model(self.defaults())
         self.numbering = sm.paper_numbering(sm.sliding_layer(probe, self.config.slope))
@@ -157,7 +173,7 @@ class SlopeScene:
         law = sm.joint_law(self.kind, self.table4, self.config.constant, self.config.barton_bandis)
         scene = sm.slope_scene(self.name, self.config.slope, self.table4.density_kg_m3, law, run, [])
         if knobs.density_scaling is not None:
-            scene["solver"]["time_step"] = _time_step(scene, knobs, _automatic_step(scene))
+            _density_scaling(scene, knobs)
         return scene
 
     def _model(self, knobs: Knobs) -> Model:
@@ -201,15 +217,3 @@ def relative_error(reading: Reading, reference: Reading) -> float:
         return 0.0
     scale = float(np.max(np.abs(reference.values[finite])))
     return float(np.max(np.abs(reading.values[finite] - reference.values[finite]))) / scale
-
-
-def reading_table(scene, reading: Reading) -> pd.DataFrame:
-    """One row per thing read: its label, value [mm] and status."""
-    return pd.DataFrame(
-        {
-            "scene": scene.name,
-            "read": scene.labels,
-            "value_mm": reading.values / units.mm,
-            "status": reading.statuses,
-        }
-    )

@@ -178,7 +178,7 @@ def baseline_here(slope_config: str) -> dict:
 
 
 def _in_subprocess(call: str, timeout_s: float | None) -> dict:
-    """Run `bbmc.dem.scaling.<call>` in a fresh interpreter; its JSON answer (the last line printed)."""
+    """Run `bbmc.bench.scaling.<call>` in a fresh interpreter; its JSON answer (the last line printed)."""
     code = f"import json\nfrom bbmc.bench import scaling\nprint(json.dumps(scaling.{call}))"
     env = dict(os.environ)
     source = str(Path(__file__).resolve().parents[2])  # src/: the package, whether installed or not

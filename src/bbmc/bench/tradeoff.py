@@ -19,24 +19,27 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from bbmc.bench.paper_scenes import Knobs, Reading, relative_error
+from bbmc.bench.paper_scenes import Knobs, PaperScene, Reading, relative_error
 
 KNOBS = ("update_interval_steps", "safety_factor", "sub_contacts_per_edge", "damping", "density_scaling")
+REFERENCES = ("reference", "reference_check")  # measured against each other, not on the front
 
 
-def best_reading(scene, knobs: Knobs, repeats: int) -> Reading:
+def best_reading(scene: PaperScene, knobs: Knobs, repeats: int) -> Reading:
     """The scene's reading at `knobs`, with the least wall time of `repeats` runs (runs are deterministic,
     so only the time differs)."""
     readings = [scene.read(knobs) for _ in range(repeats)]
     return min(readings, key=lambda r: r.seconds)
 
 
-def applies(scene, knob: str) -> bool:
+def applies(scene: PaperScene, knob: str) -> bool:
     """The update interval matters only where a joint law depends on the stresses."""
-    return knob != "update_interval_steps" or getattr(scene, "kind", "barton_bandis") != "constant"
+    return knob != "update_interval_steps" or scene.stress_dependent
 
 
-def settings(scene, values: dict[str, list], reference: dict, check: dict) -> list[tuple[str, object, Knobs]]:
+def settings(
+    scene: PaperScene, values: dict[str, list], reference: dict, check: dict
+) -> list[tuple[str, object, Knobs]]:
     """(knob, value, knobs) of every run: the default, each knob's values alone, the reference and
     its check (the reference with the overrides of `check`)."""
     default = scene.defaults()
@@ -73,7 +76,7 @@ def scene_tradeoff(
     readings = {}
     for knob, value, knobs in runs:
         progress(f"{scene.name}: {knob} {'' if value is None else value}")
-        once = knob in ("reference", "reference_check")  # what it costs is not the point: how close it is
+        once = knob in REFERENCES  # what it costs is not the point: how close it is
         readings[(knob, value)] = best_reading(scene, knobs, 1 if once else repeats)
     ref, default = readings[("reference", None)], readings[("default", None)]
     check_reading = readings[("reference_check", None)]
@@ -108,7 +111,15 @@ def scene_tradeoff(
             for label, v, s in zip(scene.labels, r.values, r.statuses, strict=True)
         ]
     table = pd.DataFrame(rows)
-    table["on_pareto_front"] = pareto_front(table["seconds"].to_numpy(), table["relative_error"].to_numpy())
+    table["resolved"] = (
+        table["relative_error"] > table.loc[table["knob"] == "reference", "relative_error"].iloc[0]
+    )
+    compared = ~table["knob"].isin(REFERENCES).to_numpy()
+    front = np.zeros(len(table), dtype=bool)
+    front[compared] = pareto_front(
+        table["seconds"].to_numpy()[compared], table["relative_error"].to_numpy()[compared]
+    )
+    table["on_pareto_front"] = front
     return table, pd.DataFrame(read)
 
 
@@ -126,22 +137,53 @@ def pareto_front(seconds: np.ndarray, error: np.ndarray) -> np.ndarray:
     return front
 
 
+def timing_noise(table: pd.DataFrame) -> float:
+    """The run-to-run spread of wall time in this run: the largest |time / default time - 1| of the knob
+    runs whose settings are the default's (the same run timed again)."""
+    spread = 0.0
+    for _, rows in table.groupby("scene", sort=False):
+        default = rows[rows["knob"] == "default"].iloc[0]
+        again = rows[rows["knob"].isin(KNOBS)]
+        same = np.ones(len(again), dtype=bool)
+        for knob in KNOBS:
+            same &= (again[knob] == default[knob]).to_numpy() | (again[knob].isna() & pd.isna(default[knob]))
+        spread = max(
+            spread, float(np.max(np.abs(again["time_over_default"].to_numpy()[same] - 1.0), initial=0.0))
+        )
+    return spread
+
+
 def recommended(table: pd.DataFrame, target_error: float) -> pd.DataFrame:
-    """For each scene and knob, the fastest value within `target_error` of the reference (the knee of
-    that knob's curve), with its error and time against the default setting."""
+    """For each scene and knob: the values within `target_error` of the reference, the fastest of them,
+    and the recommendation: that fastest value if it is faster than the default setting by more than the
+    timing noise (`timing_noise`), else the scene's own value if that is within the target, else none
+    (no value of this knob alone reaches the target)."""
+    noise = timing_noise(table)
     rows = []
     for (scene, knob), group in table[table["knob"].isin(KNOBS)].groupby(["scene", "knob"], sort=False):
+        default = table[(table["scene"] == scene) & (table["knob"] == "default")].iloc[0]
+        own = _label(default[knob]) if not pd.isna(default[knob]) else ""
         within = group[group["relative_error"] <= target_error]
-        best = within.loc[within["seconds"].idxmin()] if len(within) else None
+        fastest = within.loc[within["seconds"].idxmin()] if len(within) else None
+        gain = fastest is not None and fastest["time_over_default"] < 1.0 - noise
+        if gain:
+            choice = fastest["value"]
+        elif default["relative_error"] <= target_error:
+            choice = own or "off"
+        else:
+            choice = ""
         rows.append(
             {
                 "scene": scene,
                 "knob": knob,
                 "target_error": target_error,
-                "fastest_within_target": None if best is None else best["value"],
-                "its_error": math.nan if best is None else best["relative_error"],
-                "its_time_over_default": math.nan if best is None else best["time_over_default"],
-                "values_within_target": ", ".join(str(v) for v in within["value"]),
+                "values_within_target": ", ".join(within["value"]),
+                "fastest_within_target": "" if fastest is None else fastest["value"],
+                "its_error": math.nan if fastest is None else fastest["relative_error"],
+                "its_time_over_default": math.nan if fastest is None else fastest["time_over_default"],
+                "timing_noise": noise,
+                "measurably_faster": bool(gain),
+                "recommended": choice,
             }
         )
     return pd.DataFrame(rows)
@@ -166,7 +208,7 @@ def tradeoff_figure(table: pd.DataFrame, floor: float, dpi: int) -> Figure:
             for x, y, v in zip(rows["seconds"][mine], error[mine], rows["value"][mine], strict=True):
                 if v:
                     ax.annotate(v, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
-        front = rows["on_pareto_front"].to_numpy()
+        front = rows["on_pareto_front"].to_numpy(dtype=bool)
         order = np.argsort(rows["seconds"].to_numpy()[front])
         ax.step(
             rows["seconds"].to_numpy()[front][order],

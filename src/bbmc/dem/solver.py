@@ -172,10 +172,16 @@ def _set_time_step(model: Model, state: State) -> None:
     if status == kernels.STEP_ABOVE_CRITICAL:
         _above_critical(model, state)
     if not math.isfinite(state.clock[L.DT]) and math.isfinite(state.dt_range[0]):
+        _check_overlap(model, state, [])  # how deep the blocks are in each other now
+        deep = state.largest_overlap > 0.1  # the search drops contacts deeper than a quarter of a block
+        how = (
+            "blocks pushed through each other; likely cause: joints too soft for the load"
+            if deep
+            else "blocks thrown apart; likely cause: an undamped or too fast load (ramp_steps, damping)"
+        )
         raise SimulationError(
-            f"step {state.step}: every contact has been lost (blocks pushed through each other or thrown "
-            f"apart: deeper than a quarter of a block, {state.largest_overlap:.3g} of its size at the last "
-            "check); likely cause: joints too soft for the load, or a load applied too fast (ramp_steps)"
+            f"step {state.step}: every contact has been lost ({how}; deepest interpenetration seen "
+            f"{state.largest_overlap:.3g} of a block's size)"
         )
     if not math.isfinite(state.clock[L.DT]):
         raise SimulationError(

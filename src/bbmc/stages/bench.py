@@ -191,7 +191,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     economies = economy_table(scenes, config.economy.repeats, progress)
     s = config.scaling
     growth = scaling_table(
-        s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 2**30, config.slope_config, progress=progress
+        s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 1e9, config.slope_config, progress=progress
     )
     progress("joint laws' throughput")
     return StageResult(
