@@ -5,7 +5,8 @@ compared with a converged reference run of the same scene (every knob at its acc
 reference itself with a run twice as fine (its own error, so the reference's convergence is shown, not
 assumed). The error is `paper_scenes.relative_error` of what users read; the cost is the wall time of
 the run, best of `repeats`, measured side by side in one process (ratios to the default setting's time
-are what carry across machines).
+are what carry across machines). `resolved` is false where a run's error is not above the reference's
+own error (closer to the reference than the reference is to its check: too close to tell).
 """
 
 from __future__ import annotations
@@ -103,7 +104,7 @@ def scene_tradeoff(
             {
                 "scene": scene.name,
                 "knob": knob,
-                "value": value,
+                "value": _label(value),
                 "read": label,
                 "value_mm": v * 1e3,
                 "status": s,
