@@ -68,6 +68,7 @@ def _small(data):
         "sub_contacts_per_edge": [2],
         "damping": [0.5],
         "density_scaling": [5],
+        "law_update_stress_change": [0.05],
     }
     t["reference"] = {"update_interval_steps": 1, "safety_factor": 0.25, "sub_contacts_per_edge": 4}
     t["reference_check"] = {"safety_factor": 0.125}
@@ -125,7 +126,7 @@ def test_tradeoff_varies_one_knob_at_a_time_against_the_reference(bench_run):
 def test_recommended_value_is_the_fastest_within_the_target_when_measurably_faster(bench_run):
     table = pd.read_csv(bench_run / "tradeoff.csv", dtype={"value": str})
     advice = pd.read_csv(bench_run / "recommended.csv", dtype=str, keep_default_na=False)
-    assert len(advice) == 2 * 5
+    assert len(advice) == 2 * 6
     for row in advice.itertuples():
         runs = table[(table["scene"] == row.scene) & (table["knob"] == row.knob)]
         within = runs[runs["relative_error"] <= float(row.target_error)]

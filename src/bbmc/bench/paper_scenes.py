@@ -40,6 +40,7 @@ class Knobs:
     sub_contacts_per_edge: int
     damping: float
     density_scaling: float | None = None  # the fixed step over the automatic step at step 0 (None: off)
+    law_update_stress_change: float | None = None  # laws also updated once stresses move this much
 
 
 class PaperScene(Protocol):
@@ -118,6 +119,7 @@ class ShearScene:
             "bench_shear", specimen, run, self.bench.density, law, sigma_n, tau
         )
         scene["solver"]["damping"] = knobs.damping
+        scene["solver"]["law_update_stress_change"] = knobs.law_update_stress_change
         scene["solver"]["time_step"] = {"mode": "auto", "safety_factor": knobs.safety_factor}
         if knobs.density_scaling is not None:
             _density_scaling(scene, knobs)
@@ -172,6 +174,7 @@ class SlopeScene:
         )
         law = sm.joint_law(self.kind, self.table4, self.config.constant, self.config.barton_bandis)
         scene = sm.slope_scene(self.name, self.config.slope, self.table4.density_kg_m3, law, run, [])
+        scene["solver"]["law_update_stress_change"] = knobs.law_update_stress_change
         if knobs.density_scaling is not None:
             _density_scaling(scene, knobs)
         return scene

@@ -22,7 +22,14 @@ from matplotlib.figure import Figure
 
 from bbmc.bench.paper_scenes import Knobs, PaperScene, Reading, relative_error
 
-KNOBS = ("update_interval_steps", "safety_factor", "sub_contacts_per_edge", "damping", "density_scaling")
+KNOBS = (
+    "update_interval_steps",
+    "safety_factor",
+    "sub_contacts_per_edge",
+    "damping",
+    "density_scaling",
+    "law_update_stress_change",
+)
 REFERENCES = ("reference", "reference_check")  # measured against each other, not on the front
 
 
@@ -34,8 +41,8 @@ def best_reading(scene: PaperScene, knobs: Knobs, repeats: int) -> Reading:
 
 
 def applies(scene: PaperScene, knob: str) -> bool:
-    """The update interval matters only where a joint law depends on the stresses."""
-    return knob != "update_interval_steps" or scene.stress_dependent
+    """The law updates matter only where a joint law depends on the stresses."""
+    return knob not in ("update_interval_steps", "law_update_stress_change") or scene.stress_dependent
 
 
 def settings(
@@ -190,7 +197,7 @@ def recommended(table: pd.DataFrame, target_error: float) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-MARKERS = dict(zip(("default", *KNOBS, "reference", "reference_check"), "*osD^vPX", strict=True))
+MARKERS = dict(zip(("default", *KNOBS, "reference", "reference_check"), "*osD^v<PX", strict=True))
 
 
 def tradeoff_figure(table: pd.DataFrame, floor: float, dpi: int) -> Figure:

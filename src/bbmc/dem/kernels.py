@@ -57,6 +57,7 @@ from bbmc.dem.layout import (
     MW,
     MX,
     MY,
+    NORMAL_CONSTANT,
     NORMAL_EQ8,
     NORMAL_LAW,
     P_A,
@@ -98,6 +99,7 @@ from bbmc.dem.layout import (
     SN,
     STEP,
     STRENGTH_BARTON_BANDIS,
+    STRENGTH_CONSTANT,
     STRENGTH_LAW,
     TANPHI,
     TAU,
@@ -385,6 +387,28 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
 
 
 @numba.njit(cache=True)
+def stresses_moved(contacts, subs, n_sub, laws, params, change):
+    """True once a sub-contact of a stress-dependent joint type has a sigma_n or tau that differs from
+    the one its laws were last evaluated at by more than `change` times the larger of that value and
+    the type's stress floor (so an update is due before the interval is up)."""
+    for c in range(contacts.shape[0]):
+        j = contacts[c, JOINT_TYPE]
+        if (
+            laws[j, STRENGTH_LAW] == STRENGTH_CONSTANT
+            and laws[j, NORMAL_LAW] == NORMAL_CONSTANT
+            and (laws[j, SHEAR_LAW] == SHEAR_CONSTANT)
+        ):
+            continue
+        floor = params[j, P_STRESS_FLOOR]
+        for s in range(c * n_sub, (c + 1) * n_sub):
+            if abs(subs[s, SN] - subs[s, LAW_SN]) > change * max(abs(subs[s, LAW_SN]), floor):
+                return True
+            if abs(subs[s, TAU] - subs[s, LAW_TAU]) > change * max(abs(subs[s, LAW_TAU]), floor):
+                return True
+    return False
+
+
+@numba.njit(cache=True)
 def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
     """Parameters of new sub-contacts (contacts first_new onwards) from their joint type.
 
@@ -500,6 +524,7 @@ def cycle(
     params,
     variable_laws,
     update_interval,
+    stress_change,
     changed_laws_only,
     moving,
     gravity,
@@ -518,11 +543,15 @@ def cycle(
 
     time_step_mode: 0 automatic (safety x critical, recomputed after each law update), 1 fixed (the
     run stops with STEP_ABOVE_CRITICAL once the fixed step exceeds the critical one), 2 density
-    scaling (fixed step, inertial masses rescaled after each law update). `changed_laws_only` and
-    `moving`: see `update_joint_laws` and `move_blocks`.
+    scaling (fixed step, inertial masses rescaled after each law update). The laws are updated every
+    `update_interval` cycles, and sooner once `stresses_moved` by `stress_change` (inf: never sooner).
+    `changed_laws_only` and `moving`: see `update_joint_laws` and `move_blocks`.
     """
     for done in range(n_steps):
-        if variable_laws and clock[SINCE_UPDATE] >= update_interval:
+        due = clock[SINCE_UPDATE] >= update_interval
+        if variable_laws and not due and stress_change < math.inf:
+            due = stresses_moved(contacts, subs, n_sub, laws, params, stress_change)
+        if variable_laws and due:
             update_joint_laws(contacts, subs, n_sub, laws, params, changed_laws_only)
             clock[SINCE_UPDATE] = 0.0
             status = set_time_step(

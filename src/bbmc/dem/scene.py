@@ -270,6 +270,8 @@ class Solver(Section):
     damping: Annotated[float, Field(ge=0, lt=1)] = 0.8  # Cundall local damping; 0 for true dynamics
     time_step: TimeStep = TimeStep()
     update_interval_steps: Annotated[int, Field(ge=1)] = 50  # stress-dependent laws (the paper: 50)
+    # ... and sooner once a sub-contact's sigma_n or tau moved by this fraction since its last evaluation
+    law_update_stress_change: Annotated[float, Field(gt=0)] | None = None
     stop: Stop | None = None
 
 

@@ -315,6 +315,7 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             model.params,
             model.variable_laws,
             solver.update_interval_steps,
+            solver.law_update_stress_change or math.inf,
             model.economy.changed_laws_only,
             state.moving,
             model.gravity,

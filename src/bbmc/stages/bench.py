@@ -53,6 +53,7 @@ class KnobValues(Section):
     sub_contacts_per_edge: list[SubContacts] = Field(min_length=1)
     damping: list[Annotated[float, Field(ge=0, lt=1)]] = Field(min_length=1)
     density_scaling: list[Annotated[float, Field(ge=1, le=10_000)]] = Field(min_length=1)
+    law_update_stress_change: list[Annotated[float, Field(gt=0, le=10)]] = Field(min_length=1)
 
 
 class Accurate(Section):
