@@ -336,7 +336,8 @@ def test_barton_bandis_joint_at_extreme_stresses_is_finite_and_balanced(
     strict=True,
     reason="known limit of the paper's fixed 50-step update: the first 50 steps load the joint to 166 x the"
     " floor stress on the floor's K_n, and the excess closure is never recovered (8.6 mm against eq 5's"
-    " 0.57 mm); solver.law_update_stress_change removes it (next test)",
+    " 0.57 mm); solver.law_update_stress_change removes the lag (next test), leaving the excess of updating"
+    " every step (0.70 mm: the explicit increments under a 3000-step ramp)",
 )
 def test_barton_bandis_closure_at_100_MPa_follows_eq5(tmp_path):
     """The paper's update interval (50 steps), 100 MPa ramped over 3000 steps: the closure is eq 5's,
