@@ -197,7 +197,9 @@ def recommended(table: pd.DataFrame, target_error: float) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-MARKERS = dict(zip(("default", *KNOBS, "reference", "reference_check"), "*osD^v<PX", strict=True))
+RUN_KINDS = ("default", *KNOBS, *REFERENCES)
+MARKERS = dict(zip(RUN_KINDS, "*osD^v<PX", strict=True))
+COLOURS = {kind: f"C{i}" for i, kind in enumerate(RUN_KINDS)}  # the same in every panel
 
 
 def tradeoff_figure(table: pd.DataFrame, floor: float, dpi: int) -> Figure:
@@ -211,7 +213,12 @@ def tradeoff_figure(table: pd.DataFrame, floor: float, dpi: int) -> Figure:
         for knob in dict.fromkeys(rows["knob"]):
             mine = (rows["knob"] == knob).to_numpy() & np.isfinite(error)
             ax.scatter(
-                rows["seconds"][mine], error[mine], marker=MARKERS[knob], s=46, label=knob.replace("_", " ")
+                rows["seconds"][mine],
+                error[mine],
+                marker=MARKERS[knob],
+                s=46,
+                label=knob.replace("_", " "),
+                color=COLOURS[knob],
             )
             for x, y, v in zip(rows["seconds"][mine], error[mine], rows["value"][mine], strict=True):
                 if v:
