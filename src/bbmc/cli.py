@@ -52,11 +52,24 @@ def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
         click.echo(f"  {path}")
 
 
-def _run_stage(stage: ModuleType, config: str | None, results: str) -> None:
+def _run_stage(
+    stage: ModuleType, config: str | None, results: str, progress_after_s: float | None = None
+) -> None:
+    """Load the stage's config, run it, write its results. `progress_after_s`: the stage reports its
+    steps, shown on stderr once the run has lasted that long (None: a stage without progress)."""
     config_path = Path(config) if config else Path("configs") / f"{stage.NAME}.yaml"
     with _reported(stage.NAME):
         settings = load_config(config_path, stage.Config)
-        result = stage.run(settings)
+        if progress_after_s is None:
+            result = stage.run(settings)
+        else:
+            started = time.perf_counter()
+
+            def progress(step: str) -> None:
+                if time.perf_counter() - started >= progress_after_s:
+                    click.echo(f"bbmc {stage.NAME}: {step}", err=True)
+
+            result = stage.run(settings, progress)
         record = provenance(stage.NAME, config_path, settings)
         written = write_stage(Path(results) / stage.NAME, result, record)
     _report_written(stage.NAME, Path(results) / stage.NAME, written)
@@ -202,13 +215,7 @@ def bench_command(config: str | None, results: str) -> None:
     blocks), laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios.
     """
-    config_path = Path(config) if config else Path("configs") / "bench.yaml"
-    with _reported(bench_stage.NAME):
-        settings = load_config(config_path, bench_stage.Config)
-        result = bench_stage.run(settings, lambda step: click.echo(f"bbmc bench: {step}", err=True))
-        out_dir = Path(results) / bench_stage.NAME
-        written = write_stage(out_dir, result, provenance(bench_stage.NAME, config_path, settings))
-    _report_written(bench_stage.NAME, out_dir, written)
+    _run_stage(bench_stage, config, results, progress_after_s=0.0)
 
 
 @main.command(name="slope")
@@ -224,19 +231,7 @@ def slope_command(config: str | None, results: str) -> None:
     fs_vs_dip.csv, critical_dip.csv, dip_sensitivity.csv, fig7.png ... fig10.png, fs_vs_dip.png,
     dip_sensitivity.png, animation.gif, provenance.json
     """
-    config_path = Path(config) if config else Path("configs") / "slope.yaml"
-    with _reported(slope_stage.NAME):
-        settings = load_config(config_path, slope_stage.Config)
-        started = time.perf_counter()
-
-        def progress(step: str) -> None:
-            if time.perf_counter() - started > 2.0:
-                click.echo(f"bbmc slope: {step}", err=True)
-
-        result = slope_stage.run(settings, progress)
-        out_dir = Path(results) / slope_stage.NAME
-        written = write_stage(out_dir, result, provenance(slope_stage.NAME, config_path, settings))
-    _report_written(slope_stage.NAME, out_dir, written)
+    _run_stage(slope_stage, config, results, progress_after_s=2.0)
 
 
 @main.command(name="shear")
