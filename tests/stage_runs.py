@@ -21,6 +21,15 @@ def run_stage(stage: str, results: Path, config: Path | None = None) -> Result:
     return CliRunner().invoke(main, [stage, "--config", str(config), "--results", str(results)])
 
 
+def stage_folder(tmp_path_factory, stage: str, edit) -> Path:
+    """`bbmc <stage>` run with an `edit`ed copy of its config into a fresh temporary folder; the folder
+    it wrote (the run must succeed)."""
+    folder = tmp_path_factory.mktemp(stage)
+    outcome = run_stage(stage, folder / "results", config_copy(folder, stage, edit))
+    assert outcome.exit_code == 0, outcome.output
+    return folder / "results" / stage
+
+
 def paper_table(name: str) -> pd.DataFrame:
     return pd.read_csv(PAPER / name)
 

@@ -12,7 +12,7 @@ import pytest
 from bbmc.bench.economy import economy_table
 from bbmc.bench.paper_scenes import Reading, ShearScene, SlopeScene, relative_error
 from bbmc.bench.tradeoff import pareto_front
-from stage_runs import CONFIGS, config_copy, run_stage
+from stage_runs import CONFIGS, stage_folder
 
 
 def test_pareto_front_keeps_exactly_the_undominated_runs():
@@ -80,10 +80,7 @@ def _small(data):
 
 @pytest.fixture(scope="module")
 def bench_run(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("bench")
-    outcome = run_stage("bench", folder / "results", config_copy(folder, "bench", _small))
-    assert outcome.exit_code == 0, outcome.output
-    return folder / "results" / "bench"
+    return stage_folder(tmp_path_factory, "bench", _small)
 
 
 def test_bench_writes_every_file(bench_run):

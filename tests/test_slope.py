@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from bbmc.dem import polygons
 from bbmc.slope import limit_equilibrium as le
 from bbmc.slope import measures as me
-from stage_runs import config_copy, run_stage
+from stage_runs import config_copy, run_stage, stage_folder
 
 SLOPE = {
     "height_m": 10.0,
@@ -127,10 +127,7 @@ def _short(data):
 
 @pytest.fixture(scope="module")
 def slope_run(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("slope")
-    result = run_stage("slope", folder / "results", config_copy(folder, "slope", _short))
-    assert result.exit_code == 0, result.output
-    return folder / "results" / "slope"
+    return stage_folder(tmp_path_factory, "slope", _short)
 
 
 def test_stage_writes_every_file(slope_run):

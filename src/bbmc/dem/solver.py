@@ -157,13 +157,7 @@ def _set_time_step(model: Model, state: State) -> None:
     ts = model.scene.solver.time_step
     status = kernels.set_time_step(
         state.clock,
-        state.blocks,
-        state.dof,
-        state.world,
-        model.vertex_next,
-        state.contacts,
-        state.subs,
-        state.n_sub,
+        *_stiffness(model, state),
         TIME_STEP_MODES[ts.mode],
         ts.safety_factor,
         ts.step_s or math.inf,
@@ -198,8 +192,9 @@ def _note_time_step(state: State) -> None:
     state.dt_range[1] = max(state.dt_range[1], state.clock[L.DT])
 
 
-def _critical(model: Model, state: State) -> float:
-    return kernels.critical_time_step(
+def _stiffness(model: Model, state: State) -> tuple:
+    """The arrays the kernels assemble the contact stiffness from (for the critical step)."""
+    return (
         state.blocks,
         state.dof,
         state.world,
@@ -207,8 +202,11 @@ def _critical(model: Model, state: State) -> float:
         state.contacts,
         state.subs,
         state.n_sub,
-        model.scene.solver.damping,
     )
+
+
+def _critical(model: Model, state: State) -> float:
+    return kernels.critical_time_step(*_stiffness(model, state), model.scene.solver.damping)
 
 
 def _above_critical(model: Model, state: State) -> None:
