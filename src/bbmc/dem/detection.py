@@ -14,7 +14,8 @@ import numba
 import numpy as np
 from numba.typed import List
 
-from bbmc.dem.kernels import edge_frame
+from bbmc.dem.kernels import contact_frame, edge_frame
+from bbmc.dem.layout import CORNER_ROUNDING
 
 
 @numba.njit(cache=True)
@@ -109,38 +110,72 @@ def _depth_bound(world, vertex_start, vertex_next, size, margin, a, b):
 
 
 @numba.njit(cache=True)
-def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, margin, bound_when_needed):
-    """Edge pairs (edge of a, edge of b) of each block pair that face each other: antiparallel within
-    the angle tolerance, overlapping in projection, and at the middle of the overlap no farther apart
-    than the margin, and no deeper inside each other than the blocks overlap along their separating
-    axis (plus 1 % of the margin) nor than a quarter of the smaller block's size. The separating-axis
-    bound rejects collinear edges of two blocks that meet corner to corner along a persistent joint:
-    once one has slid past the other's end, their edges overlap in projection by as much as it slid,
-    although the blocks touch only on the joint they slide along.
+def _turns_away(world, vertex_next, e, first, last, s_closed, tx, ty, reach, other_nx, other_ny):
+    """Whether edge e (of a block with edges first..last-1) has an end vertex at the overlap's closed
+    end (within `reach` of s_closed along the tangent) whose other edge faces the other block's edge
+    (normal other_n) more squarely than e does."""
+    facing = _facing(world, vertex_next, e, other_nx, other_ny)
+    for end, neighbour in ((e, e - 1 if e > first else last - 1), (vertex_next[e], vertex_next[e])):
+        at_corner = abs(world[end, 0] * tx + world[end, 1] * ty - s_closed) <= reach
+        if at_corner and _facing(world, vertex_next, neighbour, other_nx, other_ny) < facing:
+            return True
+    return False
+
+
+@numba.njit(cache=True)
+def _facing(world, vertex_next, e, other_nx, other_ny):
+    """Cosine between edge e's outward normal and another normal (-1: they face each other squarely)."""
+    _, _, tx, ty, _ = edge_frame(world, vertex_next, e)
+    return ty * other_nx - tx * other_ny
+
+
+@numba.njit(cache=True)
+def face_most(world, vertex_start, vertex_next, a, b, ea, eb, nx, ny, s_closed, reach):
+    """Whether neither edge of the pair has, at the corner where the pair is closed, a neighbouring edge
+    of its block that faces the other edge more squarely. A corner of a block then makes one contact
+    with a face, through the edge that turns towards it (a column toppling about its corner keeps the
+    contact of its base until it has turned 45 degrees), and two blocks that meet at a corner beside
+    their common face make no second contact there."""
+    tx, ty = -ny, nx
+    _, _, tax, tay, _ = edge_frame(world, vertex_next, ea)
+    _, _, tbx, tby, _ = edge_frame(world, vertex_next, eb)
+    first_a, last_a = vertex_start[a], vertex_start[a + 1]
+    first_b, last_b = vertex_start[b], vertex_start[b + 1]
+    if _turns_away(world, vertex_next, ea, first_a, last_a, s_closed, tx, ty, reach, tby, -tbx):
+        return False
+    return not _turns_away(world, vertex_next, eb, first_b, last_b, s_closed, tx, ty, reach, tay, -tax)
+
+
+@numba.njit(cache=True)
+def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_when_needed):
+    """Edge pairs (edge of a, edge of b) of each block pair that are in contact or about to be: their
+    outward normals face each other at any angle below 90 degrees (a face, a corner against a face, a
+    corner against a corner; `kernels.contact_frame`), they overlap on their common line, and at the
+    closer end of that overlap they are no farther apart than the margin and no deeper inside each
+    other than the blocks overlap along their separating axis (plus 1 % of the margin) nor than a
+    quarter of the smaller block's size. The separating-axis bound rejects edges of two blocks that
+    meet corner to corner along a persistent joint: once one has slid past the other's end, their
+    edges overlap in projection by as much as it slid, although the blocks touch only on the joint
+    they slide along.
     `bound_when_needed`: compute that bound only for a pair with an edge pair deeper than 1 % of the
     margin (no shallower one can fail it), else for every pair.
     Returns int64 (n, 4): edge a, edge b, block a, block b."""
     found = List()
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]
+        rounding = CORNER_ROUNDING * min(size[a], size[b])
         depth = -1.0
         if not bound_when_needed:
             depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
         for ea in range(vertex_start[a], vertex_start[a + 1]):
-            ax, ay, tx, ty, la = edge_frame(world, vertex_next, ea)
             for eb in range(vertex_start[b], vertex_start[b + 1]):
-                bx, by, ux, uy, lb = edge_frame(world, vertex_next, eb)
-                facing = ty * uy + tx * ux
-                if facing > -cos_tolerance:
+                active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(
+                    world, vertex_next, ea, eb, rounding
+                )
+                if not active:
                     continue
-                s0 = (bx - ax) * tx + (by - ay) * ty
-                s1 = s0 + (ux * tx + uy * ty) * lb
-                lo, hi = max(min(s0, s1), 0.0), min(max(s0, s1), la)
-                if hi - lo <= 1e-9 * la:
-                    continue
-                mid = 0.5 * (lo + hi)
-                px, py = ax + mid * tx, ay + mid * ty
-                gap = -((px - bx) * uy - (py - by) * ux) / facing
+                gap_lo, gap_hi = b_lo - a_lo, b_hi - a_hi
+                gap = min(gap_lo, gap_hi)
                 if gap > margin or not math.isfinite(gap):
                     continue
                 if gap < -0.01 * margin:
@@ -148,6 +183,9 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, cos_tolerance, m
                         depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
                     if gap < -depth:
                         continue
+                closed = lo if gap_lo <= gap_hi else hi
+                if not face_most(world, vertex_start, vertex_next, a, b, ea, eb, nx, ny, closed, rounding):
+                    continue
                 found.append((ea, eb, a, b))
     out = np.empty((len(found), 4), dtype=np.int64)
     for k in range(len(found)):
@@ -176,8 +214,8 @@ def _deepest_vertex(world, vertex_start, vertex_next, a, b):
 def vertex_penetration(pairs, world, vertex_start, vertex_next):
     """For each block pair, the depth of the deepest vertex of either block inside the other [m].
 
-    Independent of the contacts: it also sees a corner pushed into a face, which the edge-to-edge
-    contact model does not resist."""
+    Independent of the contacts: the safety net that sees blocks pushed into each other whatever
+    the contacts did."""
     depth = np.zeros(pairs.shape[0])
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]

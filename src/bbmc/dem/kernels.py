@@ -7,13 +7,19 @@ of velocities (with Cundall's local damping) and positions. Every `update_interv
 stress-dependent joint laws are re-evaluated at each sub-contact from its own stresses through the
 scalar laws of `bbmc.laws` (the same code the numpy ufuncs run), and the time step is recomputed.
 
-Geometry of a contact. A contact is a pair of antiparallel edges, one of block A (the reference edge,
-tangent t, outward normal n) and one of block B. The part of B's edge that projects onto A's edge is
-split into `n_sub` equal sub-contacts; each sits at the middle of its part, midway between the two
-edges, and carries a length L. Its overlap u_n (> 0 closed) is measured geometrically each cycle, so
-closure never drifts; the normal stress is integrated incrementally, d sigma_n = K_n d u_n (which is
-how a stress-dependent K_n(sigma_n) integrates eq 5). Shear is incremental: d u_s = (v_B - v_A).t dt,
-d tau = K_s d u_s. The force on B is L (sigma_n n - tau t); A gets the opposite.
+Geometry of a contact. A contact is a pair of edges, one of block A (the lower index) and one of
+block B, whose outward normals face each other at any angle below 90 degrees and whose projections
+on their common line overlap (`contact_frame`): two faces, a corner against a face, or a corner
+against a corner. The common line's normal n is the face's where a corner presses on a face, turns
+gradually around corners that meet (rounded over `CORNER_ROUNDING` of the smaller block's size), and is
+the faces' own for parallel faces. The overlap is split into `n_sub` sub-contacts by the trapezoidal
+rule (`sub_contact_place`): the two end ones at its ends (corners), the others evenly between. Each
+sub-contact's overlap u_n (> 0 closed) is measured geometrically each cycle, so closure never
+drifts; the normal stress is integrated incrementally, d sigma_n = K_n d u_n (which is how a
+stress-dependent K_n(sigma_n) integrates eq 5). Shear is incremental: d u_s = (v_B - v_A).t dt,
+d tau = K_s d u_s, t = (-n_y, n_x). The force on B is L (sigma_n n - tau t); A gets the opposite.
+A column that starts to topple keeps the contact it stood on: the sub-contact at the corner it turns
+about stays closed and keeps its state, the others open; landing flat closes them again.
 
 Rules (documented options of the scene format):
 
@@ -38,6 +44,7 @@ from bbmc.dem.layout import (
     BLOCK_A,
     BLOCK_B,
     COH,
+    CORNER_ROUNDING,
     CX,
     CY,
     DT,
@@ -95,6 +102,7 @@ from bbmc.dem.layout import (
     SHEAR_LAW,
     SHEAR_SIMPLIFIED,
     SINCE_UPDATE,
+    SIZE,
     SLIPPED,
     SN,
     STEP,
@@ -132,8 +140,10 @@ from bbmc.laws.stiffness import (
 )
 from bbmc.laws.strength import equivalent_cohesion, equivalent_friction_angle
 
+PARALLEL = -1.0 + 1e-12  # cosine between two edges' normals below which they are parallel faces
+
 # Kernel return codes.
-DONE, SEARCH_NEEDED, STEP_ABOVE_CRITICAL = 0, 1, 2
+DONE, SEARCH_NEEDED, STEP_ABOVE_CRITICAL, NO_BOUND = 0, 1, 2, 3
 
 
 @numba.njit(cache=True)
@@ -203,41 +213,135 @@ def _sub_contact_law(subs, s, un, dus, after_slip):
 
 
 @numba.njit(cache=True)
-def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, cos_tolerance, dt):
+def _overlap(world, vertex_next, ea, eb, nx, ny):
+    """Edges ea and eb projected on the line of unit normal n (tangent t = (-n_y, n_x)): the overlap
+    [lo, hi] of their projections on t, and each edge's height along n at lo and at hi [m]:
+    (lo, hi, A's height at lo, A's at hi, B's at lo, B's at hi)."""
+    tx, ty = -ny, nx
+    pa, qa, pb, qb = ea, vertex_next[ea], eb, vertex_next[eb]
+    sa0, sa1 = world[pa, 0] * tx + world[pa, 1] * ty, world[qa, 0] * tx + world[qa, 1] * ty
+    sb0, sb1 = world[pb, 0] * tx + world[pb, 1] * ty, world[qb, 0] * tx + world[qb, 1] * ty
+    ha0, ha1 = world[pa, 0] * nx + world[pa, 1] * ny, world[qa, 0] * nx + world[qa, 1] * ny
+    hb0, hb1 = world[pb, 0] * nx + world[pb, 1] * ny, world[qb, 0] * nx + world[qb, 1] * ny
+    lo, hi = max(min(sa0, sa1), min(sb0, sb1)), min(max(sa0, sa1), max(sb0, sb1))
+    ka = (ha1 - ha0) / (sa1 - sa0) if sa1 != sa0 else 0.0
+    kb = (hb1 - hb0) / (sb1 - sb0) if sb1 != sb0 else 0.0
+    return (
+        lo,
+        hi,
+        ha0 + (lo - sa0) * ka,
+        ha0 + (hi - sa0) * ka,
+        hb0 + (lo - sb0) * kb,
+        hb0 + (hi - sb0) * kb,
+        min(sa0, sa1) - min(sb0, sb1),
+        max(sb0, sb1) - max(sa0, sa1),
+    )
+
+
+@numba.njit(cache=True)
+def contact_frame(world, vertex_next, ea, eb, rounding):
+    """The common line of edge ea (block A) and edge eb (block B), at any angle between them.
+
+    Returns (active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi): the unit normal n (from A towards B; the
+    tangent is t = (-n_y, n_x)), the overlap [lo, hi] of the two edges projected on t [m], and the
+    heights along n of A's and of B's edge at lo and at hi [m] (the gap, > 0 open, is B's minus A's).
+    Inactive when the edges do not face each other (their outward normals make 90 degrees or more)
+    or do not overlap in projection.
+
+    The normal is that of the face a corner presses on (UDEC's corner-edge contact): at the closed end
+    of the overlap (the end with the smaller gap, first measured along A's normal) sits a vertex of B,
+    inside A's edge (n = n_A), or a vertex of A, inside B's edge (n = -n_B). Where the two vertices at
+    that end are less than `rounding` apart along the line (corner against corner) the normal turns
+    linearly from one to the other, as around a corner rounded over that length, so it never jumps as
+    a corner slides past another corner. Two parallel edges give n = n_A = -n_B whatever the end.
+    """
+    _, _, tax, tay, la = edge_frame(world, vertex_next, ea)
+    _, _, tbx, tby, lb = edge_frame(world, vertex_next, eb)
+    nax, nay, nbx, nby = tay, -tax, tby, -tbx
+    facing = nax * nbx + nay * nby
+    if facing >= -1e-9:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    lo, hi, a_lo, a_hi, b_lo, b_hi, inside_lo, inside_hi = _overlap(world, vertex_next, ea, eb, nax, nay)
+    if hi - lo <= 1e-9 * max(la, lb):
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    if facing < PARALLEL:  # n_A and -n_B differ by less than 1.5e-6 rad: either is the normal
+        return True, nax, nay, lo, hi, a_lo, a_hi, b_lo, b_hi
+    inside = inside_lo if b_lo - a_lo <= b_hi - a_hi else inside_hi  # > 0: A's corner inside B's edge
+    w = min(max(0.5 - inside / (2.0 * rounding), 0.0), 1.0)
+    if w == 1.0:
+        return True, nax, nay, lo, hi, a_lo, a_hi, b_lo, b_hi
+    nx, ny = w * nax - (1.0 - w) * nbx, w * nay - (1.0 - w) * nby
+    norm = math.sqrt(nx * nx + ny * ny)
+    nx, ny = nx / norm, ny / norm
+    lo, hi, a_lo, a_hi, b_lo, b_hi, _, _ = _overlap(world, vertex_next, ea, eb, nx, ny)
+    if hi - lo <= 1e-9 * max(la, lb):
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    return True, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi
+
+
+@numba.njit(cache=True)
+def contact_normals(world, vertex_next, size, found):
+    """The common line's unit normal of each edge pair in `found` (rows: edge a, edge b, block a,
+    block b), as `contact_frame` gives it; (0, 0) where it is inactive."""
+    normal = np.zeros((found.shape[0], 2))
+    for k in range(found.shape[0]):
+        rounding = CORNER_ROUNDING * min(size[found[k, 2]], size[found[k, 3]])
+        _, normal[k, 0], normal[k, 1], _, _, _, _, _, _ = contact_frame(
+            world, vertex_next, found[k, 0], found[k, 1], rounding
+        )
+    return normal
+
+
+@numba.njit(cache=True)
+def sub_contact_place(k, n_sub):
+    """Where sub-contact k of n_sub sits on a contact's overlap and the length it carries, both as
+    fractions of the overlap [1].
+
+    The trapezoidal rule: n_sub points evenly from one end of the overlap to the other, the two end
+    points at the ends themselves (a corner, where a block turns about it), carrying half the spacing,
+    the inner ones the whole spacing; the lengths add up to the overlap. A single sub-contact sits at
+    the middle and carries the whole overlap (it cannot carry a moment)."""
+    if n_sub == 1:
+        return 0.5, 1.0
+    spacing = 1.0 / (n_sub - 1)
+    return k * spacing, 0.5 * spacing if k == 0 or k == n_sub - 1 else spacing
+
+
+@numba.njit(cache=True)
+def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, dt):
     """Update every sub-contact's stresses and add the contact forces and moments to the blocks.
 
-    A contact whose edges no longer face each other (angle beyond the tolerance, or no overlap of
-    their projections) is inactive: zero length, zero stresses.
+    Each contact's common line comes from `contact_frame`; a contact whose edges no longer face each
+    other or no longer overlap in projection is inactive: zero length, zero stresses. A sub-contact's
+    overlap u_n is the distance along the normal between the two edges at its place on the common line
+    (> 0 closed); it sits midway between them.
     """
     for c in range(contacts.shape[0]):
         a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
-        ax, ay, tx, ty, la = edge_frame(world, vertex_next, contacts[c, EDGE_A])
-        bx, by, ux, uy, lb = edge_frame(world, vertex_next, contacts[c, EDGE_B])
-        nx, ny = ty, -tx
-        nbx, nby = uy, -ux
-        facing = nx * nbx + ny * nby
-        s_b0 = (bx - ax) * tx + (by - ay) * ty
-        s_b1 = s_b0 + (ux * tx + uy * ty) * lb
-        lo, hi = max(min(s_b0, s_b1), 0.0), min(max(s_b0, s_b1), la)
+        ea, eb = contacts[c, EDGE_A], contacts[c, EDGE_B]
+        rounding = CORNER_ROUNDING * min(blocks[a, SIZE], blocks[b, SIZE])
+        active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, rounding)
         first = c * n_sub
-        if facing > -cos_tolerance or hi <= lo:
+        if not active:
             for s in range(first, first + n_sub):
                 _open(subs, s)
                 subs[s, LENGTH] = 0.0
             continue
-        length = (hi - lo) / n_sub
+        tx, ty = -ny, nx
         after_slip = laws[contacts[c, JOINT_TYPE], AFTER_SLIP]
         for k in range(n_sub):
             s = first + k
-            along = lo + (k + 0.5) * length
-            px, py = ax + along * tx, ay + along * ty
-            gap = -((px - bx) * nbx + (py - by) * nby) / facing
-            cx, cy = px + 0.5 * gap * nx, py + 0.5 * gap * ny
+            f, share = sub_contact_place(k, n_sub)
+            along, length = lo + f * (hi - lo), share * (hi - lo)
+            h_a = a_lo + f * (a_hi - a_lo)
+            h_b = b_lo + f * (b_hi - b_lo)
+            middle = 0.5 * (h_a + h_b)
+            cx, cy = along * tx + middle * nx, along * ty + middle * ny
             rax, ray = cx - blocks[a, X], cy - blocks[a, Y]
             rbx, rby = cx - blocks[b, X], cy - blocks[b, Y]
             dvx = (blocks[b, VX] - blocks[b, W] * rby) - (blocks[a, VX] - blocks[a, W] * ray)
             dvy = (blocks[b, VY] + blocks[b, W] * rbx) - (blocks[a, VY] + blocks[a, W] * rax)
-            _sub_contact_law(subs, s, -gap, (dvx * tx + dvy * ty) * dt, after_slip)
+            _sub_contact_law(subs, s, h_a - h_b, (dvx * tx + dvy * ty) * dt, after_slip)
             subs[s, LENGTH] = length
             subs[s, CX] = cx
             subs[s, CY] = cy
@@ -448,7 +552,12 @@ def stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, s
     gb = np.zeros(3)
     for c in range(contacts.shape[0]):
         a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
-        _, _, tx, ty, _ = edge_frame(world, vertex_next, contacts[c, EDGE_A])
+        rounding = CORNER_ROUNDING * min(blocks[a, SIZE], blocks[b, SIZE])
+        active, nx, ny, _, _, _, _, _, _ = contact_frame(
+            world, vertex_next, contacts[c, EDGE_A], contacts[c, EDGE_B], rounding
+        )
+        if not active:
+            continue
         for d in range(3):
             scale_a[d] = _row_scale(blocks, dof, a, d, symmetric)
             scale_b[d] = _row_scale(blocks, dof, b, d, symmetric)
@@ -458,7 +567,7 @@ def stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, s
                 continue
             rax, ray = subs[s, CX] - blocks[a, X], subs[s, CY] - blocks[a, Y]
             rbx, rby = subs[s, CX] - blocks[b, X], subs[s, CY] - blocks[b, Y]
-            for dx, dy, k in ((ty, -tx, subs[s, KN]), (tx, ty, subs[s, KS])):
+            for dx, dy, k in ((nx, ny, subs[s, KN]), (-ny, nx, subs[s, KS])):
                 ga[0], ga[1], ga[2] = -dx, -dy, -(rax * dy - ray * dx)
                 gb[0], gb[1], gb[2] = dx, dy, rbx * dy - rby * dx
                 total = 0.0
@@ -533,7 +642,6 @@ def cycle(
     edge_loads,
     load_edge,
     damping,
-    cos_tolerance,
     search_distance,
     time_step_mode,
     safety,
@@ -568,7 +676,7 @@ def cycle(
                 fixed_dt,
                 damping,
             )
-            if status != DONE:
+            if status == STEP_ABOVE_CRITICAL:
                 return done, status
         dt = clock[DT]
         apply_loads(
@@ -583,7 +691,7 @@ def cycle(
             load_edge,
             clock[STEP],
         )
-        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, cos_tolerance, dt)
+        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, dt)
         moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving)
         update_vertices(blocks, vertex_start, local, world, moving)
         clock[STEP] += 1.0
@@ -598,7 +706,9 @@ def cycle(
 def set_time_step(
     clock, blocks, dof, world, vertex_next, contacts, subs, n_sub, mode, safety, fixed_dt, damping
 ):
-    """Set clock[DT] for the current stiffnesses (see `cycle` for the modes); returns a status code."""
+    """Set clock[DT] for the current stiffnesses (see `cycle` for the modes); returns a status code:
+    NO_BOUND, with clock[DT] left as it was, when nothing is in contact and no step_s bounds the
+    automatic step (blocks in free flight keep the last step)."""
     if mode == 2:
         scale_masses(blocks, dof, world, vertex_next, contacts, subs, n_sub, fixed_dt, safety, damping)
         clock[DT] = fixed_dt
@@ -607,5 +717,8 @@ def set_time_step(
     if mode == 1:
         clock[DT] = fixed_dt
         return STEP_ABOVE_CRITICAL if fixed_dt > critical else DONE
-    clock[DT] = min(safety * critical, fixed_dt)
+    step = min(safety * critical, fixed_dt)
+    if not math.isfinite(step):
+        return NO_BOUND
+    clock[DT] = step
     return DONE

@@ -26,7 +26,7 @@ BLOCK_COLUMNS = 28
 FREE, PRESCRIBED = 0, 1  # a fixed degree of freedom is one prescribed at zero velocity
 
 # --- contacts: int64 (n_contacts, CONTACT_COLUMNS); each owns N_SUB consecutive sub-contact rows ----
-EDGE_A, EDGE_B = 0, 1  # global edge indices; block A (lower index) carries the reference edge
+EDGE_A, EDGE_B = 0, 1  # global edge indices, of block A (the lower index) and of block B
 BLOCK_A, BLOCK_B = 2, 3
 JOINT_TYPE = 4
 CONTACT_COLUMNS = 5
@@ -44,6 +44,10 @@ LAW_SN, LAW_TAU = (
     14,
 )  # the stresses the joint laws were last evaluated at (nan: evaluate at the next update)
 SUB_COLUMNS = 15
+
+# corners are rounded over this fraction of the smaller block's size: within it of each other, two
+# corners in contact turn the normal gradually from one face's to the other's (`kernels.contact_frame`)
+CORNER_ROUNDING = 0.01
 
 # --- joint types: int64 (n_types, LAW_COLUMNS) and float64 (n_types, PARAMETERS) --------------------
 STRENGTH_LAW, NORMAL_LAW, SHEAR_LAW, AFTER_SLIP = 0, 1, 2, 3

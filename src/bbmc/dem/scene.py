@@ -204,7 +204,6 @@ class Contacts(Section):
     default_law: str
     rules: list[ContactRule] = Field(default_factory=list)
     sub_contacts_per_edge: Annotated[int, Field(ge=1, le=64)] = 4
-    angle_tolerance_deg: Annotated[float, Field(gt=0, le=45)] = 5.0
     search_margin_m: Positive | None = None  # default: 2 % of the median block size
     interpenetration_limit: Annotated[float, Field(gt=0, lt=1)] = 0.05  # of the smaller block's size
 
