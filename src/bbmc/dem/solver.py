@@ -264,8 +264,8 @@ def _check_overlap(model: Model, state: State, warnings: list[str]) -> None:
         warnings.append(
             f"step {state.step}: blocks '{model.block_names[a]}' and '{model.block_names[b]}' "
             f"interpenetrate by {100 * relative[k]:.3g} % of the smaller block's size (limit "
-            f"{100 * limit:.3g} %): joints too soft for the load, or a corner pressed into a face "
-            "(edge-to-edge contacts only)"
+            f"{100 * limit:.3g} %): joints too soft for the load, or a block that moved through another "
+            "between two contact searches"
         )
 
 

@@ -100,7 +100,7 @@ def fig7(model: Model, numbering: dict[int, int], slope: JointedSlope, dpi: int)
 
 def fig8(runs: dict, snapshots: pd.DataFrame, dpi: int) -> Figure:
     """Fig 8: displacement vectors of the free blocks at each snapshot, one row per model (arrows of
-    one row share a scale, given in the row's key)."""
+    one row share a scale, given in the row's key), and the largest rotation of a free block."""
     fractions = sorted(snapshots["fraction"].unique())
     fig = Figure(figsize=(4 * len(fractions), 6.5), dpi=dpi, layout="constrained")
     axes = fig.subplots(2, len(fractions), squeeze=False, sharex=True, sharey=True)
@@ -122,9 +122,10 @@ def fig8(runs: dict, snapshots: pd.DataFrame, dpi: int) -> Figure:
                 scale=largest / 4.0,
                 width=0.006,
             )
+            turned = shot["rotation_deg"].abs().max()
             ax.set_title(
                 f"{MODEL_STYLE[kind][1]}\nstep {int(shot['step'].iloc[0])}, "
-                f"t = {shot['time_s'].iloc[0]:.2f} s",
+                f"t = {shot['time_s'].iloc[0]:.2f} s, largest rotation {turned:.2g} deg",
                 fontsize=9,
             )
             if col == len(fractions) - 1:

@@ -343,8 +343,8 @@ def block_table(model: Model, numbering: dict[int, int]) -> pd.DataFrame:
 
 
 def snapshot_table(runs: dict[str, SlopeRun], fractions: list[float]) -> pd.DataFrame:
-    """Fig 8: every free block's displacement vector at each snapshot (nearest record to the fraction
-    of the run's own duration)."""
+    """Fig 8: every free block's displacement vector and rotation (counter-clockwise) at each snapshot
+    (nearest record to the fraction of the run's own duration)."""
     rows = []
     for kind, run in runs.items():
         free = ~np.all(run.model.dof == L.PRESCRIBED, axis=1)
@@ -363,6 +363,7 @@ def snapshot_table(runs: dict[str, SlopeRun], fractions: list[float]) -> pd.Data
                         "y_m": run.paths[0, i, 1],
                         "ux_mm": moved[i, 0] * 1e3,
                         "uy_mm": moved[i, 1] * 1e3,
+                        "rotation_deg": np.degrees(run.paths[k, i, 2] - run.paths[0, i, 2]),
                     }
                 )
     return pd.DataFrame(rows)
