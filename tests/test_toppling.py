@@ -18,6 +18,8 @@ from bbmc.dem import kernels
 from bbmc.dem import layout as L
 from bbmc.dem.layout import CORNER_ROUNDING
 from bbmc.dem.solver import load_scene, simulate
+from bbmc.slope import toppling as tp
+from bbmc.slope import toppling_scene as ts
 from dem_scenes import DENSITY, G, constant_joint, run_scene, write_scene
 
 ONSET_ROTATION_DEG = 10.0  # a column has toppled once it has turned this far
@@ -365,3 +367,30 @@ def test_a_column_that_tips_onto_its_corner_and_lands_keeps_its_contact(tmp_path
     assert not any((subs[1:, L.UN] > 0).any() for subs in tilted)
     assert sum(subs[0, L.UN] > 0 for subs in tilted) >= 0.9 * len(tilted)
     assert abs(tilt[-1]) < 0.01 and (records[-1][1][:, L.UN] > 0).all()
+
+
+GOODMAN_BRAY = tp.regular_system(10.0, math.radians(30.0), 10, 5.0, 5.0, 1.0)  # Hoek & Bray's example
+
+
+def test_goodman_bray_slope_fails_block_by_block_as_limit_equilibrium_says(tmp_path):
+    """Hoek & Bray's toppling example (16 blocks 10 m wide, 4-40 m tall, bases at 30 deg, steps of
+    1 m) on the engine at 1.5 deg below the limit-equilibrium friction (38.15 deg): blocks 1-3 slide,
+    4-13 topple and 14-16 stay, as the limit equilibrium's modes; no block goes 1 % of its size into
+    another."""
+    friction = math.degrees(tp.limiting_friction(GOODMAN_BRAY)) - 1.5
+    result = ts.run_trial(GOODMAN_BRAY, friction, ts.TrialSettings())
+    assert not ts.holds(result)
+    dem = ts.block_modes(GOODMAN_BRAY, result, still_m=0.01)["mode"].tolist()
+    le = tp.toppling_forces(GOODMAN_BRAY, math.radians(friction), 25e3).to_frame()
+    assert dem == ["slides"] * 3 + ["topples"] * 10 + ["stable"] * 3
+    assert sorted(le["mode"].tolist()) == sorted(dem)
+    assert _summary(result)["largest_interpenetration"] < 0.01
+
+
+def test_goodman_bray_limiting_friction_on_the_engine_is_near_limit_equilibrium():
+    """The engine's limiting friction of the same slope, bisected to 0.05 deg, lies within 1 deg of the
+    limit equilibrium's 38.15 deg (measured: 37.47 deg with 4 sub-contacts per edge, -0.68 deg: the
+    elastic columns share their side forces over the contact, where the limit equilibrium puts each at
+    the top corner of the shorter column)."""
+    dem = ts.limiting_friction(GOODMAN_BRAY, 36.0, 42.0, 0.05, ts.TrialSettings())
+    assert dem == pytest.approx(math.degrees(tp.limiting_friction(GOODMAN_BRAY)), abs=1.0)
