@@ -10,6 +10,7 @@ import pandas as pd
 import pytest
 
 from bbmc.bench.economy import economy_table
+from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.paper_scenes import Reading, ShearScene, SlopeScene, relative_error
 from bbmc.bench.tradeoff import pareto_front
 from stage_runs import CONFIGS, stage_folder
@@ -76,6 +77,7 @@ def _small(data):
     data["economy"]["repeats"] = 1
     data["scaling"] = {"block_counts": [100, 300], "steps": 20, "repeats": 1, "memory_limit_GB": 4}
     data["laws"] = {"array_size": 2000, "python_loop_size": 200, "repeats": 1}
+    data["engine_cost"] = {"commit": "deadbeef", "block_counts": [100], "steps": 20, "repeats": 1}
 
 
 @pytest.fixture(scope="module")
@@ -88,6 +90,20 @@ def test_bench_writes_every_file(bench_run):
     for stem in ("tradeoff", "scaling"):
         assert {f"{stem}.csv", f"{stem}.png"} <= names
     assert {"tradeoff_readings.csv", "recommended.csv", "economy.csv", "laws.csv", "provenance.json"} <= names
+
+
+def test_engine_cost_says_why_when_the_commit_cannot_be_checked_out(bench_run):
+    table = pd.read_csv(bench_run / "engine_cost.csv")
+    assert table["skipped"].iloc[0].startswith("commit deadbeef not checked out")
+
+
+@pytest.mark.slow
+def test_engine_cost_of_the_engine_against_itself_is_one(tmp_path):
+    """HEAD against HEAD (fresh processes, one compiling the checkout's kernels): the ratio is within
+    timing noise of 1 (0.8 to 1.25 on a shared machine)."""
+    table = engine_cost_table("HEAD", [100], 50, 2, CONFIGS / "slope.yaml", CONFIGS / "shear.yaml")
+    assert (table["skipped"] == "").all()
+    assert table["now_over_then"].between(0.8, 1.25).all()
 
 
 def test_tradeoff_varies_one_knob_at_a_time_against_the_reference(bench_run):

@@ -7,6 +7,8 @@ economy.csv: the gain of each piece of work the engine leaves out, and that it c
 (`bbmc.bench.economy`).
 scaling.csv / scaling.png: time per step and peak memory on generated jointed slopes of growing size
 (`bbmc.bench.scaling`).
+engine_cost.csv: time per step of this engine against an earlier commit's on the scaling slope and the
+shear box, in alternating fresh processes (`bbmc.bench.engine_cost`).
 
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
@@ -30,6 +32,7 @@ from pydantic import Field
 from bbmc import laws, units
 from bbmc.bench import tradeoff as to
 from bbmc.bench.economy import economy_table
+from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.scaling import scaling_figure, scaling_table
 from bbmc.config import InputFile, Section
@@ -85,6 +88,15 @@ class Scaling(Section):
     memory_limit_GB: Annotated[float, Field(gt=0)]
 
 
+class EngineCost(Section):
+    """The engine against an earlier commit's, side by side (`bbmc.bench.engine_cost`)."""
+
+    commit: Annotated[str, Field(min_length=4, max_length=40, pattern=r"^[0-9a-fA-F]+$")]
+    block_counts: list[Annotated[int, Field(ge=10, le=1_000_000)]] = Field(min_length=1)
+    steps: Annotated[int, Field(ge=10, le=1_000_000)]
+    repeats: Repeats
+
+
 class Laws(Section):
     array_size: int = Field(ge=1_000, le=100_000_000)
     python_loop_size: int = Field(ge=100, le=10_000_000)
@@ -97,6 +109,7 @@ class Config(Section):
     tradeoff: Tradeoff
     economy: Economies
     scaling: Scaling
+    engine_cost: EngineCost
     laws: Laws
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
@@ -194,6 +207,10 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     growth = scaling_table(
         s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 1e9, config.slope_config, progress=progress
     )
+    e = config.engine_cost
+    cost = engine_cost_table(
+        e.commit, e.block_counts, e.steps, e.repeats, config.slope_config, config.shear_config, progress
+    )
     progress("joint laws' throughput")
     return StageResult(
         tables={
@@ -202,6 +219,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "recommended": to.recommended(trade, t.target_error),
             "economy": economies,
             "scaling": growth,
+            "engine_cost": cost,
             "laws": law_table(config.laws),
         },
         figures={

@@ -1,0 +1,127 @@
+"""What this engine costs per step against an earlier one (a git commit), side by side in one run.
+
+Made for the cost of corner contacts where none form: the scaling slope of `configs/slope.yaml`
+(`bbmc.bench.scaling`) and the shear box of `configs/shear.yaml` (`bbmc.bench.paper_scenes`), each
+timed in fresh processes that import bbmc from this source tree or from a checkout of the commit
+(a temporary git worktree), alternately, best of `repeats`. The code each process runs uses only what
+both trees have (`scaling.measure_here`, `paper_scenes.ShearScene`), so the same measurement runs on
+both engines.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+import pandas as pd
+
+SOURCE = Path(__file__).resolve().parents[2]  # src/ of this tree
+
+
+def _run(code: str, source: Path, timeout_s: float) -> dict:
+    """Run `code` in a fresh interpreter that imports bbmc from `source`; its JSON answer (last line)."""
+    env = dict(os.environ, PYTHONPATH=str(source))
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout_s, env=env, check=False
+    )
+    lines = done.stdout.strip().splitlines()
+    if done.returncode != 0 or not lines:
+        error = (done.stderr.strip().splitlines() or [f"exit status {done.returncode}"])[-1]
+        raise RuntimeError(f"a timing process failed (exit status {done.returncode}): {error}")
+    return json.loads(lines[-1])
+
+
+def _slope_code(blocks: int, steps: int, slope_config: str) -> str:
+    return (
+        "import json\nfrom bbmc.bench import scaling\n"
+        f"r = scaling.measure_here({blocks}, {steps}, 3, 0.5, {slope_config!r})\n"
+        "print(json.dumps({k: r[k] for k in ('blocks', 'sub_contacts', 'seconds_per_step', "
+        "'sub_contact_updates_per_s')}))"
+    )
+
+
+def _shear_code(shear_config: str) -> str:
+    return (
+        "import json\nfrom pathlib import Path\nfrom bbmc.bench.paper_scenes import ShearScene\n"
+        f"s = ShearScene(Path({shear_config!r}))\ns.read(s.defaults())\n"
+        "best = min((s.read(s.defaults()) for _ in range(3)), key=lambda r: r.seconds)\n"
+        "nan = float('nan')\n"
+        "print(json.dumps({'blocks': 2, 'sub_contacts': nan, 'seconds_per_step': best.seconds / best.steps, "
+        "'sub_contact_updates_per_s': nan}))"
+    )
+
+
+def _worktree(commit: str, into: Path) -> Path:
+    """A checkout of `commit` of the repository this source tree is in; its src/ folder."""
+    subprocess.run(
+        ["git", "-C", str(SOURCE), "worktree", "add", "--detach", str(into), commit],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return into / "src"
+
+
+def engine_cost_table(
+    commit: str,
+    block_counts: list[int],
+    steps: int,
+    repeats: int,
+    slope_config: str,
+    shear_config: str,
+    progress: Callable[[str], None] = lambda _: None,
+    timeout_s: float = 1800.0,
+) -> pd.DataFrame:
+    """One row per scene: seconds per step on this engine and on `commit`'s, best of `repeats`
+    alternating fresh processes, and their ratio (this over that). If the commit cannot be checked
+    out (no git, a shallow clone), one row says why."""
+    cases = [
+        (f"slope, about {n} blocks", _slope_code(n, steps, str(Path(slope_config).resolve())))
+        for n in block_counts
+    ]
+    cases.append(("shear box, Table 3 tests with eq 16", _shear_code(str(Path(shear_config).resolve()))))
+    with tempfile.TemporaryDirectory(prefix="bbmc-engine-") as folder:
+        try:
+            then = _worktree(commit, Path(folder) / "then")
+        except (OSError, subprocess.CalledProcessError) as error:
+            reason = getattr(error, "stderr", "") or str(error)
+            return pd.DataFrame(
+                [{"scene": "all", "skipped": f"commit {commit} not checked out: {reason.strip()}"}]
+            )
+        try:
+            rows = []
+            for scene, code in cases:
+                best: dict[str, dict] = {}
+                for k in range(repeats):
+                    for label, source in (("now", SOURCE), ("then", then)):
+                        progress(f"engine cost: {scene}, {label}, run {k + 1} of {repeats}")
+                        reading = _run(code, source, timeout_s)
+                        if label not in best or reading["seconds_per_step"] < best[label]["seconds_per_step"]:
+                            best[label] = reading
+                rows.append(
+                    {
+                        "scene": scene,
+                        "commit": commit,
+                        "blocks": best["now"]["blocks"],
+                        "sub_contacts_now": best["now"]["sub_contacts"],
+                        "sub_contacts_then": best["then"]["sub_contacts"],
+                        "seconds_per_step_now": best["now"]["seconds_per_step"],
+                        "seconds_per_step_then": best["then"]["seconds_per_step"],
+                        "now_over_then": best["now"]["seconds_per_step"] / best["then"]["seconds_per_step"],
+                        "sub_contact_updates_per_s_now": best["now"]["sub_contact_updates_per_s"],
+                        "sub_contact_updates_per_s_then": best["then"]["sub_contact_updates_per_s"],
+                        "skipped": "",
+                    }
+                )
+            return pd.DataFrame(rows)
+        finally:
+            subprocess.run(
+                ["git", "-C", str(SOURCE), "worktree", "remove", "--force", str(Path(folder) / "then")],
+                capture_output=True,
+                check=False,
+            )
