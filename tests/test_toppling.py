@@ -31,6 +31,26 @@ def _summary(result) -> dict:
     return dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
 
 
+def block_on_a_base(
+    name: str, block: dict, friction_deg: float, solver: dict, monitors: list[dict], base_x: float
+) -> dict:
+    """A scene of one block (`block`: its name, shape and turn) over a fixed 0.5 m thick base whose top
+    is y = 0 from x = base_x on, 10 m long; every joint constant, K_n = K_s = 10 MPa/mm."""
+    base = {"x_m": base_x, "y_m": -0.5, "width_m": 10.0, "height_m": 0.5}
+    return {
+        "name": name,
+        "materials": {"rock": {"density_kg_m3": DENSITY}},
+        "blocks": [
+            {"name": "base", "material": "rock", "rectangle_m": base, "fix": ["x", "y", "rotation"]},
+            {"material": "rock", **block},
+        ],
+        "joint_laws": {"joint": constant_joint(friction_deg)},
+        "contacts": {"default_law": "joint"},
+        "solver": solver,
+        "monitoring": {"every_steps": 20, "monitors": monitors},
+    }
+
+
 def column_on_incline(
     width: float, height: float, dip_deg: float, friction_deg: float, seconds: float = 2.0
 ) -> dict:
@@ -41,35 +61,17 @@ def column_on_incline(
     mass = DENSITY * width * height
     dip = math.radians(dip_deg)
     weight_kN = [-mass * G * math.sin(dip) / 1e3, -mass * G * math.cos(dip) / 1e3]
-    return {
-        "name": "column",
-        "gravity_m_s2": [0.0, 0.0],
-        "materials": {"rock": {"density_kg_m3": DENSITY}},
-        "blocks": [
-            {
-                "name": "base",
-                "material": "rock",
-                "rectangle_m": {"x_m": -8.0, "y_m": -0.5, "width_m": 10.0, "height_m": 0.5},
-                "fix": ["x", "y", "rotation"],
-            },
-            {
-                "name": "column",
-                "material": "rock",
-                "rectangle_m": {"x_m": 0.0, "y_m": 0.0, "width_m": width, "height_m": height},
-            },
-        ],
-        "joint_laws": {"joint": constant_joint(friction_deg)},
-        "contacts": {"default_law": "joint"},
-        "loads": {"block_forces": [{"block": "column", "force_kN": weight_kN, "ramp_steps": 2000}]},
-        "solver": {"steps": 10**6, "damping": 0.0, "stop": {"time_s": seconds}},
-        "monitoring": {
-            "every_steps": 100,
-            "monitors": [
-                {"name": "rot", "block": "column", "quantity": "rotation"},
-                {"name": "corner", "block": "column", "point_m": [0.0, 0.0], "quantity": "ux"},
-            ],
-        },
-    }
+    column = {"name": "column", "rectangle_m": {"x_m": 0.0, "y_m": 0.0, "width_m": width, "height_m": height}}
+    monitors = [
+        {"name": "rot", "block": "column", "quantity": "rotation"},
+        {"name": "corner", "block": "column", "point_m": [0.0, 0.0], "quantity": "ux"},
+    ]
+    solver = {"steps": 10**6, "damping": 0.0, "stop": {"time_s": seconds}}
+    scene = block_on_a_base("column", column, friction_deg, solver, monitors, base_x=-8.0)
+    scene["gravity_m_s2"] = [0.0, 0.0]
+    scene["loads"] = {"block_forces": [{"block": "column", "force_kN": weight_kN, "ramp_steps": 2000}]}
+    scene["monitoring"]["every_steps"] = 100
+    return scene
 
 
 def incline_regime(result) -> str:
@@ -192,37 +194,22 @@ def housner_time_to_impact(half_width: float, half_height: float, tilt: float) -
 def rocking_block(half_width: float, half_height: float, tilt_deg: float) -> dict:
     """A rectangular block standing on its right lower corner on a fixed base, tilted by `tilt_deg`
     about it; undamped, automatic time step (the only contact at step 0 is that corner)."""
-    return {
-        "name": "rocking",
-        "materials": {"rock": {"density_kg_m3": DENSITY}},
-        "blocks": [
-            {
-                "name": "base",
-                "material": "rock",
-                "rectangle_m": {"x_m": -2.0, "y_m": -0.5, "width_m": 4.0, "height_m": 0.5},
-                "fix": ["x", "y", "rotation"],
-            },
-            {
-                "name": "block",
-                "material": "rock",
-                "rectangle_m": {
-                    "x_m": -half_width,
-                    "y_m": 0.0,
-                    "width_m": 2 * half_width,
-                    "height_m": 2 * half_height,
-                },
-                "rotate_deg": -tilt_deg,
-                "rotate_about_m": [half_width, 0.0],
-            },
-        ],
-        "joint_laws": {"joint": constant_joint(45.0)},
-        "contacts": {"default_law": "joint"},
-        "solver": {"steps": 10**6, "damping": 0.0, "stop": {"time_s": 1.0}},
-        "monitoring": {
-            "every_steps": 5,
-            "monitors": [{"name": "rot", "block": "block", "quantity": "rotation"}],
+    block = {
+        "name": "block",
+        "rectangle_m": {
+            "x_m": -half_width,
+            "y_m": 0.0,
+            "width_m": 2 * half_width,
+            "height_m": 2 * half_height,
         },
+        "rotate_deg": -tilt_deg,
+        "rotate_about_m": [half_width, 0.0],
     }
+    solver = {"steps": 10**6, "damping": 0.0, "stop": {"time_s": 1.0}}
+    monitors = [{"name": "rot", "block": "block", "quantity": "rotation"}]
+    scene = block_on_a_base("rocking", block, 45.0, solver, monitors, base_x=-2.0)
+    scene["monitoring"]["every_steps"] = 5
+    return scene
 
 
 @pytest.mark.parametrize("tilt_over_alpha", [0.3, 0.8])
@@ -248,43 +235,26 @@ def dropped_square(friction_deg: float, damping: float, seconds: float) -> dict:
     """A 0.5 m square turned 30 deg, its lowest corner 0.2 m above a fixed base; the step is bounded by
     step_s while it falls (nothing is in contact at step 0), then by the contact."""
     side = 0.5
-    return {
-        "name": "dropped",
-        "materials": {"rock": {"density_kg_m3": DENSITY}},
-        "blocks": [
-            {
-                "name": "base",
-                "material": "rock",
-                "rectangle_m": {"x_m": -3.0, "y_m": -0.5, "width_m": 6.0, "height_m": 0.5},
-                "fix": ["x", "y", "rotation"],
-            },
-            {
-                "name": "square",
-                "material": "rock",
-                "rectangle_m": {"x_m": -side / 2, "y_m": 0.2, "width_m": side, "height_m": side},
-                "rotate_deg": 30.0,
-                "rotate_about_m": [-side / 2, 0.2],
-            },
-        ],
-        "joint_laws": {"joint": constant_joint(friction_deg)},
-        "contacts": {"default_law": "joint"},
-        "solver": {
-            "steps": 10**6,
-            "damping": damping,
-            "time_step": {"mode": "auto", "safety_factor": 0.5, "step_s": 1e-4},
-            "stop": {"time_s": seconds},
-        },
-        "monitoring": {
-            "every_steps": 20,
-            "monitors": [
-                {"name": "rot", "block": "square", "quantity": "rotation"},
-                {"name": "vy", "block": "square", "quantity": "vy"},
-                {"name": "ke", "quantity": "kinetic_energy"},
-                {"name": "pe", "quantity": "potential_energy"},
-                {"name": "se", "quantity": "strain_energy"},
-            ],
-        },
+    square = {
+        "name": "square",
+        "rectangle_m": {"x_m": -side / 2, "y_m": 0.2, "width_m": side, "height_m": side},
+        "rotate_deg": 30.0,
+        "rotate_about_m": [-side / 2, 0.2],
     }
+    solver = {
+        "steps": 10**6,
+        "damping": damping,
+        "time_step": {"mode": "auto", "safety_factor": 0.5, "step_s": 1e-4},
+        "stop": {"time_s": seconds},
+    }
+    monitors = [
+        {"name": "rot", "block": "square", "quantity": "rotation"},
+        {"name": "vy", "block": "square", "quantity": "vy"},
+        {"name": "ke", "quantity": "kinetic_energy"},
+        {"name": "pe", "quantity": "potential_energy"},
+        {"name": "se", "quantity": "strain_energy"},
+    ]
+    return block_on_a_base("dropped", square, friction_deg, solver, monitors, base_x=-3.0)
 
 
 def test_square_dropped_corner_first_never_gains_energy(tmp_path):

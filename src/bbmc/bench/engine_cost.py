@@ -10,30 +10,16 @@ both engines.
 
 from __future__ import annotations
 
-import json
-import os
 import subprocess
-import sys
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
 import pandas as pd
 
+from bbmc.bench.scaling import answer_of_fresh_process
+
 SOURCE = Path(__file__).resolve().parents[2]  # src/ of this tree
-
-
-def _run(code: str, source: Path, timeout_s: float) -> dict:
-    """Run `code` in a fresh interpreter that imports bbmc from `source`; its JSON answer (last line)."""
-    env = dict(os.environ, PYTHONPATH=str(source))
-    done = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout_s, env=env, check=False
-    )
-    lines = done.stdout.strip().splitlines()
-    if done.returncode != 0 or not lines:
-        error = (done.stderr.strip().splitlines() or [f"exit status {done.returncode}"])[-1]
-        raise RuntimeError(f"a timing process failed (exit status {done.returncode}): {error}")
-    return json.loads(lines[-1])
 
 
 def _slope_code(blocks: int, steps: int, slope_config: str) -> str:
@@ -100,7 +86,7 @@ def engine_cost_table(
                 for k in range(repeats):
                     for label, source in (("now", SOURCE), ("then", then)):
                         progress(f"engine cost: {scene}, {label}, run {k + 1} of {repeats}")
-                        reading = _run(code, source, timeout_s)
+                        reading = answer_of_fresh_process(code, source, timeout_s)
                         if label not in best or reading["seconds_per_step"] < best[label]["seconds_per_step"]:
                             best[label] = reading
                 rows.append(

@@ -177,20 +177,29 @@ def baseline_here(slope_config: str) -> dict:
     return {"baseline_rss_MB": _peak_rss_bytes() / MB}
 
 
-def _in_subprocess(call: str, timeout_s: float | None) -> dict:
-    """Run `bbmc.bench.scaling.<call>` in a fresh interpreter; its JSON answer (the last line printed)."""
-    code = f"import json\nfrom bbmc.bench import scaling\nprint(json.dumps(scaling.{call}))"
+def answer_of_fresh_process(code: str, source: Path, timeout_s: float | None) -> dict:
+    """Run `code` in a fresh interpreter that imports bbmc from `source` (a src/ folder) first; its
+    JSON answer (the last line it prints)."""
     env = dict(os.environ)
-    source = str(Path(__file__).resolve().parents[2])  # src/: the package, whether installed or not
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (source, env.get("PYTHONPATH")) if p)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(source), env.get("PYTHONPATH")) if p)
     done = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout_s, env=env, check=False
     )
     lines = done.stdout.strip().splitlines()
     if done.returncode != 0 or not lines:
         error = (done.stderr.strip().splitlines() or [f"exit status {done.returncode}"])[-1]
-        raise RuntimeError(f"scaling.{call} failed (exit status {done.returncode}): {error}")
+        raise RuntimeError(f"a fresh process failed (exit status {done.returncode}): {error}")
     return json.loads(lines[-1])
+
+
+def _in_subprocess(call: str, timeout_s: float | None) -> dict:
+    """Run `bbmc.bench.scaling.<call>` in a fresh interpreter; its JSON answer (the last line printed)."""
+    code = f"import json\nfrom bbmc.bench import scaling\nprint(json.dumps(scaling.{call}))"
+    source = Path(__file__).resolve().parents[2]  # src/: the package, whether installed or not
+    try:
+        return answer_of_fresh_process(code, source, timeout_s)
+    except RuntimeError as error:
+        raise RuntimeError(f"scaling.{call} failed: {error}") from None
 
 
 def measure(
