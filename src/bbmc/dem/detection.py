@@ -170,7 +170,7 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
         for ea in range(vertex_start[a], vertex_start[a + 1]):
             for eb in range(vertex_start[b], vertex_start[b + 1]):
                 active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(
-                    world, vertex_next, ea, eb, rounding
+                    world, vertex_next, ea, eb, size, a, b
                 )
                 if not active:
                     continue

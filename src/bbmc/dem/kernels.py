@@ -233,13 +233,11 @@ def _overlap(world, vertex_next, ea, eb, nx, ny):
         ha0 + (hi - sa0) * ka,
         hb0 + (lo - sb0) * kb,
         hb0 + (hi - sb0) * kb,
-        min(sa0, sa1) - min(sb0, sb1),
-        max(sb0, sb1) - max(sa0, sa1),
     )
 
 
 @numba.njit(cache=True)
-def contact_frame(world, vertex_next, ea, eb, rounding):
+def contact_frame(world, vertex_next, ea, eb, size, a, b):
     """The common line of edge ea (block A) and edge eb (block B), at any angle between them.
 
     Returns (active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi): the unit normal n (from A towards B; the
@@ -251,29 +249,40 @@ def contact_frame(world, vertex_next, ea, eb, rounding):
     The normal is that of the face a corner presses on (UDEC's corner-edge contact): at the closed end
     of the overlap (the end with the smaller gap, first measured along A's normal) sits a vertex of B,
     inside A's edge (n = n_A), or a vertex of A, inside B's edge (n = -n_B). Where the two vertices at
-    that end are less than `rounding` apart along the line (corner against corner) the normal turns
-    linearly from one to the other, as around a corner rounded over that length, so it never jumps as
-    a corner slides past another corner. Two parallel edges give n = n_A = -n_B whatever the end.
+    that end are less than the rounding length apart along the line (corner against corner: the
+    rounding length is `CORNER_ROUNDING` times the smaller of the sizes `size[a]`, `size[b]` of the
+    blocks a and b) the normal turns linearly from one to the other, as around a corner rounded over
+    that length, so it never jumps as a corner slides past another corner. Two parallel edges give
+    n = n_A = -n_B whatever the end (and the sizes are not read: a face contact costs no more).
     """
-    _, _, tax, tay, la = edge_frame(world, vertex_next, ea)
-    _, _, tbx, tby, lb = edge_frame(world, vertex_next, eb)
-    nax, nay, nbx, nby = tay, -tax, tby, -tbx
-    facing = nax * nbx + nay * nby
+    ax, ay, tax, tay, la = edge_frame(world, vertex_next, ea)
+    bx, by, tbx, tby, lb = edge_frame(world, vertex_next, eb)
+    facing = tax * tbx + tay * tby  # n_A . n_B
     if facing >= -1e-9:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    lo, hi, a_lo, a_hi, b_lo, b_hi, inside_lo, inside_hi = _overlap(world, vertex_next, ea, eb, nax, nay)
+    # first on A's own line: t = t_A, n = n_A = (t_Ay, -t_Ax); B's edge runs against t (facing < 0)
+    sa0 = ax * tax + ay * tay
+    sb0 = bx * tax + by * tay
+    sb1 = sb0 + lb * facing
+    height_a = ax * tay - ay * tax
+    hb0 = bx * tay - by * tax
+    slope_b = (tbx * tay - tby * tax) / facing  # B's height change per unit along t
+    lo, hi = max(sa0, sb1), min(sa0 + la, sb0)
     if hi - lo <= 1e-9 * max(la, lb):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    b_lo, b_hi = hb0 + (lo - sb0) * slope_b, hb0 + (hi - sb0) * slope_b
     if facing < PARALLEL:  # n_A and -n_B differ by less than 1.5e-6 rad: either is the normal
-        return True, nax, nay, lo, hi, a_lo, a_hi, b_lo, b_hi
-    inside = inside_lo if b_lo - a_lo <= b_hi - a_hi else inside_hi  # > 0: A's corner inside B's edge
+        return True, tay, -tax, lo, hi, height_a, height_a, b_lo, b_hi
+    # > 0: A's vertex lies inside B's edge at the closed end (the end with the smaller gap)
+    inside = sa0 - sb1 if b_lo <= b_hi else sb0 - (sa0 + la)
+    rounding = CORNER_ROUNDING * min(size[a], size[b])
     w = min(max(0.5 - inside / (2.0 * rounding), 0.0), 1.0)
     if w == 1.0:
-        return True, nax, nay, lo, hi, a_lo, a_hi, b_lo, b_hi
-    nx, ny = w * nax - (1.0 - w) * nbx, w * nay - (1.0 - w) * nby
+        return True, tay, -tax, lo, hi, height_a, height_a, b_lo, b_hi
+    nx, ny = w * tay - (1.0 - w) * tby, -w * tax + (1.0 - w) * tbx
     norm = math.sqrt(nx * nx + ny * ny)
     nx, ny = nx / norm, ny / norm
-    lo, hi, a_lo, a_hi, b_lo, b_hi, _, _ = _overlap(world, vertex_next, ea, eb, nx, ny)
+    lo, hi, a_lo, a_hi, b_lo, b_hi = _overlap(world, vertex_next, ea, eb, nx, ny)
     if hi - lo <= 1e-9 * max(la, lb):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     return True, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi
@@ -285,9 +294,8 @@ def contact_normals(world, vertex_next, size, found):
     block b), as `contact_frame` gives it; (0, 0) where it is inactive."""
     normal = np.zeros((found.shape[0], 2))
     for k in range(found.shape[0]):
-        rounding = CORNER_ROUNDING * min(size[found[k, 2]], size[found[k, 3]])
         _, normal[k, 0], normal[k, 1], _, _, _, _, _, _ = contact_frame(
-            world, vertex_next, found[k, 0], found[k, 1], rounding
+            world, vertex_next, found[k, 0], found[k, 1], size, found[k, 2], found[k, 3]
         )
     return normal
 
@@ -316,11 +324,11 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, dt):
     overlap u_n is the distance along the normal between the two edges at its place on the common line
     (> 0 closed); it sits midway between them.
     """
+    size = blocks[:, SIZE]
     for c in range(contacts.shape[0]):
         a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
         ea, eb = contacts[c, EDGE_A], contacts[c, EDGE_B]
-        rounding = CORNER_ROUNDING * min(blocks[a, SIZE], blocks[b, SIZE])
-        active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, rounding)
+        active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, size, a, b)
         first = c * n_sub
         if not active:
             for s in range(first, first + n_sub):
@@ -546,15 +554,15 @@ def stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, s
     else rows of |K| itself (used to choose scaled masses). Prescribed degrees of freedom are left out.
     """
     rows[:] = 0.0
+    size = blocks[:, SIZE]
     scale_a = np.zeros(3)
     scale_b = np.zeros(3)
     ga = np.zeros(3)
     gb = np.zeros(3)
     for c in range(contacts.shape[0]):
         a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
-        rounding = CORNER_ROUNDING * min(blocks[a, SIZE], blocks[b, SIZE])
         active, nx, ny, _, _, _, _, _, _ = contact_frame(
-            world, vertex_next, contacts[c, EDGE_A], contacts[c, EDGE_B], rounding
+            world, vertex_next, contacts[c, EDGE_A], contacts[c, EDGE_B], size, a, b
         )
         if not active:
             continue
