@@ -110,16 +110,16 @@ def _depth_bound(world, vertex_start, vertex_next, size, margin, a, b):
 
 
 @numba.njit(cache=True)
-def _turns_away(world, vertex_next, e, first, last, s_closed, tx, ty, reach, other_nx, other_ny):
-    """Whether edge e (of a block with edges first..last-1) has an end vertex at the overlap's closed
-    end (within `reach` of s_closed along the tangent) whose other edge faces the other block's edge
-    (normal other_n) more squarely than e does."""
+def _squarer_neighbour(world, vertex_next, e, first, last, s_closed, tx, ty, reach, other_nx, other_ny):
+    """The neighbouring edge of e (its block has edges first..last-1) at an end vertex of e that lies at
+    the overlap's closed end (within `reach` of s_closed along the tangent), if that edge faces the
+    other block's edge (normal other_n) more squarely than e does; else -1."""
     facing = _facing(world, vertex_next, e, other_nx, other_ny)
     for end, neighbour in ((e, e - 1 if e > first else last - 1), (vertex_next[e], vertex_next[e])):
         at_corner = abs(world[end, 0] * tx + world[end, 1] * ty - s_closed) <= reach
         if at_corner and _facing(world, vertex_next, neighbour, other_nx, other_ny) < facing:
-            return True
-    return False
+            return neighbour
+    return -1
 
 
 @numba.njit(cache=True)
@@ -130,20 +130,21 @@ def _facing(world, vertex_next, e, other_nx, other_ny):
 
 
 @numba.njit(cache=True)
-def face_most(world, vertex_start, vertex_next, a, b, ea, eb, nx, ny, s_closed, reach):
-    """Whether neither edge of the pair has, at the corner where the pair is closed, a neighbouring edge
-    of its block that faces the other edge more squarely. A corner of a block then makes one contact
-    with a face, through the edge that turns towards it (a column toppling about its corner keeps the
-    contact of its base until it has turned 45 degrees), and two blocks that meet at a corner beside
-    their common face make no second contact there."""
-    tx, ty = -ny, nx
-    _, _, tax, tay, _ = edge_frame(world, vertex_next, ea)
-    _, _, tbx, tby, _ = edge_frame(world, vertex_next, eb)
-    first_a, last_a = vertex_start[a], vertex_start[a + 1]
-    first_b, last_b = vertex_start[b], vertex_start[b + 1]
-    if _turns_away(world, vertex_next, ea, first_a, last_a, s_closed, tx, ty, reach, tby, -tbx):
-        return False
-    return not _turns_away(world, vertex_next, eb, first_b, last_b, s_closed, tx, ty, reach, tay, -tax)
+def _candidate(world, vertex_start, vertex_next, size, margin, depth, a, b, ea, eb, bound_when_needed):
+    """Whether edges ea and eb are in contact or about to be (see `facing_edges`), the separating-axis
+    depth bound (computed once per block pair, -1 until then), and the pair's normal and closed end."""
+    active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, size, a, b)
+    if not active:
+        return False, depth, 0.0, 0.0, 0.0
+    gap = min(b_lo - a_lo, b_hi - a_hi)
+    if gap > margin or not math.isfinite(gap):
+        return False, depth, 0.0, 0.0, 0.0
+    if gap < -0.01 * margin or not bound_when_needed:
+        if depth < 0.0:
+            depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
+        if gap < -depth:
+            return False, depth, 0.0, 0.0, 0.0
+    return True, depth, nx, ny, lo if b_lo - a_lo <= b_hi - a_hi else hi
 
 
 @numba.njit(cache=True)
@@ -157,35 +158,70 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
     meet corner to corner along a persistent joint: once one has slid past the other's end, their
     edges overlap in projection by as much as it slid, although the blocks touch only on the joint
     they slide along.
-    `bound_when_needed`: compute that bound only for a pair with an edge pair deeper than 1 % of the
-    margin (no shallower one can fail it), else for every pair.
+
+    A corner makes one contact with a face: of two such pairs that share a corner, the one whose edge
+    at that corner faces the other edge less squarely is dropped, if the one that replaces it (the
+    neighbouring edge with the same other edge) is itself a contact. A column toppling about its corner
+    thus keeps the contact of its base until it has turned 45 degrees, and two blocks that meet at a
+    corner beside their common face make no second contact there; a corner is never left with none.
+    `bound_when_needed`: compute the separating-axis bound only for a pair with an edge pair deeper
+    than 1 % of the margin (no shallower one can fail it), else for every pair.
     Returns int64 (n, 4): edge a, edge b, block a, block b."""
     found = List()
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]
-        rounding = CORNER_ROUNDING * min(size[a], size[b])
+        reach = CORNER_ROUNDING * min(size[a], size[b])
+        first_a, last_a = vertex_start[a], vertex_start[a + 1]
+        first_b, last_b = vertex_start[b], vertex_start[b + 1]
         depth = -1.0
-        if not bound_when_needed:
-            depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
-        for ea in range(vertex_start[a], vertex_start[a + 1]):
-            for eb in range(vertex_start[b], vertex_start[b + 1]):
-                active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(
-                    world, vertex_next, ea, eb, size, a, b
+        for ea in range(first_a, last_a):
+            for eb in range(first_b, last_b):
+                ok, depth, nx, ny, closed = _candidate(
+                    world, vertex_start, vertex_next, size, margin, depth, a, b, ea, eb, bound_when_needed
                 )
-                if not active:
+                if not ok:
                     continue
-                gap_lo, gap_hi = b_lo - a_lo, b_hi - a_hi
-                gap = min(gap_lo, gap_hi)
-                if gap > margin or not math.isfinite(gap):
-                    continue
-                if gap < -0.01 * margin:
-                    if depth < 0.0:
-                        depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
-                    if gap < -depth:
+                tx, ty = -ny, nx
+                _, _, tax, tay, _ = edge_frame(world, vertex_next, ea)
+                _, _, tbx, tby, _ = edge_frame(world, vertex_next, eb)
+                other = _squarer_neighbour(
+                    world, vertex_next, ea, first_a, last_a, closed, tx, ty, reach, tby, -tbx
+                )
+                if other >= 0:
+                    replaced, depth, _, _, _ = _candidate(
+                        world,
+                        vertex_start,
+                        vertex_next,
+                        size,
+                        margin,
+                        depth,
+                        a,
+                        b,
+                        other,
+                        eb,
+                        bound_when_needed,
+                    )
+                    if replaced:
                         continue
-                closed = lo if gap_lo <= gap_hi else hi
-                if not face_most(world, vertex_start, vertex_next, a, b, ea, eb, nx, ny, closed, rounding):
-                    continue
+                other = _squarer_neighbour(
+                    world, vertex_next, eb, first_b, last_b, closed, tx, ty, reach, tay, -tax
+                )
+                if other >= 0:
+                    replaced, depth, _, _, _ = _candidate(
+                        world,
+                        vertex_start,
+                        vertex_next,
+                        size,
+                        margin,
+                        depth,
+                        a,
+                        b,
+                        ea,
+                        other,
+                        bound_when_needed,
+                    )
+                    if replaced:
+                        continue
                 found.append((ea, eb, a, b))
     out = np.empty((len(found), 4), dtype=np.int64)
     for k in range(len(found)):

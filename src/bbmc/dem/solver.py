@@ -168,12 +168,11 @@ def _set_time_step(model: Model, state: State) -> None:
             bad_input=True,
         )
     if status == kernels.NO_BOUND:
-        _check_overlap(model, state, [])  # how deep the blocks are in each other now
-        if state.largest_overlap > 0.1:  # the search drops contacts deeper than a quarter of a block
+        now = _check_overlap(model, state, [])
+        if now > 0.1:  # the search drops contacts deeper than a quarter of a block
             raise SimulationError(
                 f"step {state.step}: every contact has been lost with blocks pushed through each other "
-                f"(deepest interpenetration seen {state.largest_overlap:.3g} of a block's size); likely "
-                "cause: joints too soft for the load"
+                f"(interpenetration {now:.3g} of a block's size); likely cause: joints too soft for the load"
             )
     _note_time_step(state)
 
@@ -247,12 +246,13 @@ def _check_health(model: Model, state: State) -> None:
     )
 
 
-def _check_overlap(model: Model, state: State, warnings: list[str]) -> None:
-    """Record the deepest interpenetration of any two blocks (a vertex of one inside the other), as a
-    fraction of the smaller block's size; warn once when it passes the scene's limit."""
+def _check_overlap(model: Model, state: State, warnings: list[str]) -> float:
+    """The deepest interpenetration of any two blocks now (a vertex of one inside the other), as a
+    fraction of the smaller block's size; kept as the largest seen, and warned of once when it passes
+    the scene's limit."""
     pairs = candidate_pairs(state.world, model.vertex_start, state.immobile, 0.0)
     if not len(pairs):
-        return
+        return 0.0
     depth = vertex_penetration(pairs, state.world, model.vertex_start, model.vertex_next)
     size = state.blocks[:, L.SIZE]
     relative = depth / np.minimum(size[pairs[:, 0]], size[pairs[:, 1]])
@@ -267,6 +267,7 @@ def _check_overlap(model: Model, state: State, warnings: list[str]) -> None:
             f"{100 * limit:.3g} %): joints too soft for the load, or a block that moved through another "
             "between two contact searches"
         )
+    return float(relative[k])
 
 
 def prepare(model: Model) -> State:
