@@ -163,7 +163,10 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
     at that corner faces the other edge less squarely is dropped, if the one that replaces it (the
     neighbouring edge with the same other edge) is itself a contact. A column toppling about its corner
     thus keeps the contact of its base until it has turned 45 degrees, and two blocks that meet at a
-    corner beside their common face make no second contact there; a corner is never left with none.
+    corner beside their common face make no second contact there; a corner on a face is never left with
+    none. Two corners that meet exactly, each with its other edge facing the other block more squarely
+    (diagonal neighbours at the junction of four blocks), make no contact: they touch at a point, and a
+    contact forms once one corner moves onto the other's face.
     `bound_when_needed`: compute the separating-axis bound only for a pair with an edge pair deeper
     than 1 % of the margin (no shallower one can fail it), else for every pair.
     Returns int64 (n, 4): edge a, edge b, block a, block b."""
@@ -184,29 +187,16 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
                 tx, ty = -ny, nx
                 _, _, tax, tay, _ = edge_frame(world, vertex_next, ea)
                 _, _, tbx, tby, _ = edge_frame(world, vertex_next, eb)
-                other = _squarer_neighbour(
+                turn_a = _squarer_neighbour(
                     world, vertex_next, ea, first_a, last_a, closed, tx, ty, reach, tby, -tbx
                 )
-                if other >= 0:
-                    replaced, depth, _, _, _ = _candidate(
-                        world,
-                        vertex_start,
-                        vertex_next,
-                        size,
-                        margin,
-                        depth,
-                        a,
-                        b,
-                        other,
-                        eb,
-                        bound_when_needed,
-                    )
-                    if replaced:
-                        continue
-                other = _squarer_neighbour(
+                turn_b = _squarer_neighbour(
                     world, vertex_next, eb, first_b, last_b, closed, tx, ty, reach, tay, -tax
                 )
-                if other >= 0:
+                if turn_a >= 0 and turn_b >= 0:
+                    continue  # two corners that meet, each turned away from the other's edge
+                if turn_a >= 0 or turn_b >= 0:
+                    other_a, other_b = (turn_a, eb) if turn_a >= 0 else (ea, turn_b)
                     replaced, depth, _, _, _ = _candidate(
                         world,
                         vertex_start,
@@ -216,8 +206,8 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
                         depth,
                         a,
                         b,
-                        ea,
-                        other,
+                        other_a,
+                        other_b,
                         bound_when_needed,
                     )
                     if replaced:
