@@ -122,11 +122,19 @@ def fig8(runs: dict, snapshots: pd.DataFrame, dpi: int) -> Figure:
                 scale=largest / 4.0,
                 width=0.006,
             )
-            turned = shot["rotation_deg"].abs().max()
             ax.set_title(
                 f"{MODEL_STYLE[kind][1]}\nstep {int(shot['step'].iloc[0])}, "
-                f"t = {shot['time_s'].iloc[0]:.2f} s, largest rotation {turned:.2g} deg",
+                f"t = {shot['time_s'].iloc[0]:.2f} s",
                 fontsize=9,
+            )
+            turned = shot["rotation_deg"].abs().max()
+            ax.text(
+                0.98,
+                0.04,
+                f"largest rotation {turned:.2g} deg",
+                transform=ax.transAxes,
+                ha="right",
+                fontsize=8,
             )
             if col == len(fractions) - 1:
                 ax.quiverkey(q, 0.8, 1.02, largest, f"{largest:.3g} mm", labelpos="E", coordinates="axes")
