@@ -393,5 +393,5 @@ def test_an_acute_corner_pressing_on_a_face_near_its_end_is_always_a_contact(dep
     world = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], v - 0.3 * t_in, v, v + 0.3 * t_out])
     vertex_start, vertex_next = np.array([0, 4, 7]), np.array([1, 2, 3, 0, 5, 6, 4])
     sizes = np.array([1.0, 0.2])
-    found = facing_edges(np.array([[0, 1]]), world, vertex_start, vertex_next, sizes, 0.02, True)
+    found, _ = facing_edges(np.array([[0, 1]]), world, vertex_start, vertex_next, sizes, 0.02, True)
     assert any(row[0] == 2 and row[1] in (4, 5) for row in found)

@@ -169,8 +169,9 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
     contact forms once one corner moves onto the other's face.
     `bound_when_needed`: compute the separating-axis bound only for a pair with an edge pair deeper
     than 1 % of the margin (no shallower one can fail it), else for every pair.
-    Returns int64 (n, 4): edge a, edge b, block a, block b."""
-    found = List()
+    Returns int64 (n, 4): edge a, edge b, block a, block b; and float64 (n, 2): each pair's normal
+    (`kernels.contact_frame`)."""
+    found, normals = List(), List()
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]
         reach = CORNER_ROUNDING * min(size[a], size[b])
@@ -213,10 +214,13 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
                     if replaced:
                         continue
                 found.append((ea, eb, a, b))
+                normals.append((nx, ny))
     out = np.empty((len(found), 4), dtype=np.int64)
+    normal = np.empty((len(found), 2))
     for k in range(len(found)):
         out[k, 0], out[k, 1], out[k, 2], out[k, 3] = found[k]
-    return out
+        normal[k, 0], normal[k, 1] = normals[k]
+    return out, normal
 
 
 @numba.njit(cache=True)

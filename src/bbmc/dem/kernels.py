@@ -289,18 +289,6 @@ def contact_frame(world, vertex_next, ea, eb, size, a, b):
 
 
 @numba.njit(cache=True)
-def contact_normals(world, vertex_next, size, found):
-    """The common line's unit normal of each edge pair in `found` (rows: edge a, edge b, block a,
-    block b), as `contact_frame` gives it; (0, 0) where it is inactive."""
-    normal = np.zeros((found.shape[0], 2))
-    for k in range(found.shape[0]):
-        _, normal[k, 0], normal[k, 1], _, _, _, _, _, _ = contact_frame(
-            world, vertex_next, found[k, 0], found[k, 1], size, found[k, 2], found[k, 3]
-        )
-    return normal
-
-
-@numba.njit(cache=True)
 def sub_contact_place(k, n_sub):
     """Where sub-contact k of n_sub sits on a contact's overlap and the length it carries, both as
     fractions of the overlap [1].

@@ -88,10 +88,9 @@ def initial_state(model: Model) -> State:
     )
 
 
-def _joint_types(model: Model, world: np.ndarray, found: np.ndarray) -> np.ndarray:
+def _joint_types(model: Model, found: np.ndarray, normal: np.ndarray) -> np.ndarray:
     """The joint law of each new contact: the first matching rule, else the default. The dip is that of
-    the contact's common line (the face a corner presses on)."""
-    normal = kernels.contact_normals(world, model.vertex_next, model.blocks[:, L.SIZE], found)
+    the contact's common line (`normal`: the face a corner presses on)."""
     dip = np.arctan2(np.abs(normal[:, 0]), np.abs(normal[:, 1]))
     ga, gb = model.block_group[found[:, 2]], model.block_group[found[:, 3]]
     types = np.full(len(found), model.default_law, dtype=np.int64)
@@ -110,7 +109,7 @@ def search_contacts(model: Model, state: State) -> None:
     b, economy = state.blocks, model.economy
     immobile = state.immobile if economy.skip_immobile_pairs else np.zeros(len(b), dtype=bool)
     pairs = candidate_pairs(state.world, model.vertex_start, immobile, model.search_margin)
-    found = facing_edges(
+    found, normal = facing_edges(
         pairs,
         state.world,
         model.vertex_start,
@@ -131,7 +130,7 @@ def search_contacts(model: Model, state: State) -> None:
     contacts = np.concatenate(
         [
             state.contacts[kept],
-            np.column_stack([fresh, _joint_types(model, state.world, fresh)]).astype(np.int64),
+            np.column_stack([fresh, _joint_types(model, fresh, normal[~known])]).astype(np.int64),
         ]
     ).reshape(-1, L.CONTACT_COLUMNS)
     kept_rows = (kept[:, None] * n_sub + np.arange(n_sub)).ravel()
