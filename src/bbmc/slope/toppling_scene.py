@@ -23,9 +23,8 @@ from scipy.optimize import bisect
 from bbmc.dem.model import build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.solver import RunResult, simulate
+from bbmc.slope.limit_equilibrium import G
 from bbmc.slope.toppling import BlockSystem
-
-G = 9.81
 
 
 @dataclass(frozen=True)
