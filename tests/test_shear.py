@@ -21,6 +21,7 @@ from bbmc import units
 from bbmc.cli import main
 from bbmc.comparison import TOLERANCES, within
 from bbmc.config import load_config
+from bbmc.paper_inputs import parameters
 from bbmc.shear import box
 from bbmc.shear import calibration as cal
 from bbmc.stages import shear as stage
@@ -101,7 +102,7 @@ def test_engine_d_h_equals_the_closed_form(results) -> None:
     computed here from the laws (the integral the audit also uses), not read from the stage's column."""
     tests = pd.read_csv(results / "stress_tests.csv")
     config = load_config(CONFIGS / "shear.yaml", stage.Config)
-    params = stage.mc_stage.parameters(config, stage.load_inputs(config))[1]
+    params = parameters(config, stage.load_inputs(config))[1]
     held = tests[tests["status"] == "holds"]
     assert len(held) == 21
     for row in held.itertuples():

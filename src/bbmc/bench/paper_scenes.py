@@ -28,9 +28,10 @@ from bbmc.dem.model import EVERY_ECONOMY, Economy, Model, build_model
 from bbmc.dem.scene import Scene, Solver, TimeStep
 from bbmc.dem.solver import SimulationError, prepare, simulate
 from bbmc.shear import box
+from bbmc.shear import config as shear_config
+from bbmc.shear.bench import Bench
+from bbmc.slope import config as slope_config
 from bbmc.slope import model as sm
-from bbmc.stages import shear as shear_stage
-from bbmc.stages import slope as slope_stage
 
 
 @dataclass(frozen=True)
@@ -91,9 +92,9 @@ class ShearScene:
     stress_dependent = True
 
     def __init__(self, config_path: Path) -> None:
-        self.config = load_config(config_path, shear_stage.Config)
-        inputs = shear_stage.load_inputs(self.config)
-        self.bench = shear_stage.Bench(self.config, inputs)
+        self.config = load_config(config_path, shear_config.Config)
+        inputs = shear_config.load_inputs(self.config)
+        self.bench = Bench(self.config, inputs)
         table3 = inputs["table3"]
         self.loads = list(zip(table3["sigma_n_MPa"] * units.MPa, table3["tau_MPa"] * units.MPa, strict=True))
         self.labels = tuple(
@@ -151,10 +152,10 @@ class SlopeScene:
     what = "displacement of blocks 1-4 at the end of the run"
 
     def __init__(self, config_path: Path, kind: sm.JointModel) -> None:
-        self.config = load_config(config_path, slope_stage.Config)
+        self.config = load_config(config_path, slope_config.Config)
         self.kind, self.name = kind, f"slope_{kind}"
         self.stress_dependent = kind != "constant"
-        self.table4 = slope_stage.load_table4(self.config.data)
+        self.table4 = slope_config.load_table4(self.config.data)
         probe = self._model(self.defaults())
         self.numbering = sm.paper_numbering(sm.sliding_layer(probe, self.config.slope))
         self.labels = tuple(f"block {n}" for n in sm.PAPER_NUMBERS)

@@ -40,7 +40,7 @@ from bbmc.dem.model import build_model
 from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import advance, prepare
 from bbmc.slope import model as sm
-from bbmc.stages import slope as slope_stage
+from bbmc.slope.config import Config, load_table4
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -58,8 +58,8 @@ MAXRSS_BYTES = 1 if sys.platform == "darwin" else 1024  # ru_maxrss is in bytes 
 @functools.cache
 def _paper_slope(slope_config: str) -> tuple[JointedSlope, float, dict, sm.Run]:
     """The slope, rock density [kg/m3], constant joint-law entry and run settings of a slope config."""
-    config = load_config(slope_config, slope_stage.Config)
-    table4 = slope_stage.load_table4(config.data)
+    config = load_config(slope_config, Config)
+    table4 = load_table4(config.data)
     law = sm.joint_law("constant", table4, config.constant, config.barton_bandis)
     return config.slope, table4.density_kg_m3, law, config.run
 

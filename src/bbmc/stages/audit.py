@@ -12,6 +12,7 @@ from bbmc import joint_model as jm
 from bbmc.config import InputFile, Section, load_config
 from bbmc.fitting import power_law_fit
 from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.paper_inputs import Errata, load_inputs, parameters
 from bbmc.stages import fit, mc
 
 NAME = "audit"
@@ -34,7 +35,7 @@ class Config(Section):
 def _inputs(config: Config) -> checks.AuditInputs:
     fit_config = load_config(config.fit_config, fit.Config)
     mc_config = load_config(config.mc_config, mc.Config)
-    fit_inputs, mc_inputs = fit.load_inputs(fit_config), mc.load_inputs(mc_config.data)
+    fit_inputs, mc_inputs = fit.load_inputs(fit_config), load_inputs(mc_config.data)
     d = config.data
     paper_fits = read_table(d.table1_fits, {"a": ANY, "b": ANY, "correlation_coefficient": POSITIVE})
     table2 = read_table(d.table2, {"cohesion_MPa": POSITIVE, "compressive_strength_MPa": POSITIVE})
@@ -49,7 +50,7 @@ def _inputs(config: Config) -> checks.AuditInputs:
     paper_reading = mc_config.model_copy(
         update={
             "stiffness_coefficients": "printed",
-            "errata": mc.Errata(
+            "errata": Errata(
                 lg_e="paper",
                 tangent_coefficient="paper",
                 shear_stiffness_form="paper",
@@ -57,7 +58,7 @@ def _inputs(config: Config) -> checks.AuditInputs:
             ),
         }
     )
-    strength, stiffness = mc.parameters(paper_reading, mc_inputs)
+    strength, stiffness = parameters(paper_reading, mc_inputs)
     table1 = fit_inputs["table1"]
     unrounded = power_law_fit(table1["sigma_n_MPa"], table1["K_si_GPa_per_m"], "log-log")
     return checks.AuditInputs(

@@ -19,6 +19,7 @@ from bbmc import laws, plots, units
 from bbmc.config import InputFile, Section
 from bbmc.fitting import Fit, linear_fit, power_law_fit
 from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.paper_inputs import Fig2aUnits
 
 NAME = "fit"
 
@@ -30,11 +31,6 @@ class Inputs(Section):
     table1: InputFile
     table3: InputFile
     fig2a_legends: InputFile
-
-
-class Fig2aUnits(Section):
-    stress: Literal["Pa", "kPa", "MPa"]
-    displacement: Literal["m", "mm"]
 
 
 class Fig1(Section):

@@ -8,32 +8,17 @@ reading, are in `bbmc.joint_model` and docs/paper-audit.md.
 
 from __future__ import annotations
 
-from typing import Literal, Protocol
-
 import numpy as np
 import pandas as pd
 from pydantic import Field, model_validator
 
 from bbmc import joint_model as jm
 from bbmc import plots, units
-from bbmc.config import InputFile, Section
-from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.config import Section
+from bbmc.io import StageResult
+from bbmc.paper_inputs import Coefficients, Errata, Inputs, load_inputs, parameters
 
 NAME = "mc"
-Coefficients = Literal["printed", "fitted"]  # eq 4's coefficients: as printed, or our Table 1 fits
-
-
-class Inputs(Section):
-    table1: InputFile
-    table3: InputFile
-    equation_constants: InputFile
-
-
-class Errata(Section):
-    lg_e: jm.Choice
-    tangent_coefficient: jm.Choice
-    shear_stiffness_form: jm.Choice
-    eq18_coefficient: jm.Choice
 
 
 class Grid(Section):
@@ -62,46 +47,6 @@ class Config(Section):
         if any(s <= 0 for s in self.tangent_stresses_MPa):
             raise ValueError("tangent_stresses_MPa must all be > 0 (a strength is asked there)")
         return self
-
-
-class JointModelConfig(Protocol):
-    """What `parameters` reads from a config (the mc and shear stages share it)."""
-
-    joint: jm.BartonBandisJoint
-    stiffness_coefficients: Coefficients
-    errata: Errata
-
-
-def load_inputs(data: Inputs) -> dict[str, pd.DataFrame]:
-    """Table 1 (for fitted coefficients), Table 3's loads and the printed constants, checked."""
-    return {
-        "table1": read_table(
-            data.table1,
-            {c: POSITIVE for c in ["sigma_n_MPa", "tau_p_MPa", "K_si_GPa_per_m", "tau_ult_MPa"]},
-        ),
-        "table3": read_table(data.table3, {"sigma_n_MPa": POSITIVE, "tau_MPa": POSITIVE}),
-        "constants": read_table(data.equation_constants, {"equation": POSITIVE, "value": ANY}),
-    }
-
-
-def parameters(
-    config: JointModelConfig, inputs: dict[str, pd.DataFrame]
-) -> tuple[jm.StrengthParameters, jm.StiffnessParameters]:
-    """The SI parameter sets this config asks for."""
-    printed = jm.printed_constants(inputs["constants"])
-    if config.stiffness_coefficients == "fitted":
-        printed |= jm.fitted_coefficients(inputs["table1"])
-    j, e = config.joint, config.errata
-    strength = jm.strength_parameters(
-        j.jrc,
-        j.jcs_MPa,
-        j.phi_b_deg,
-        j.phi_max_deg,
-        e.tangent_coefficient,
-        printed["eq15.tangent_coefficient"],
-    )
-    stiffness = jm.stiffness_parameters(printed, e.lg_e, e.shear_stiffness_form, e.eq18_coefficient)
-    return strength, stiffness
 
 
 def _mpa_mm(values: np.ndarray) -> np.ndarray:

@@ -23,19 +23,17 @@ from collections.abc import Callable
 
 import numpy as np
 import pandas as pd
-import yaml
-from pydantic import Field, model_validator
 
 from bbmc import joint_model as jm
 from bbmc import units
 from bbmc.comparison import TOLERANCES, judge
-from bbmc.config import InputFile, Section
-from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.io import StageResult
 from bbmc.shear import box
 from bbmc.shear import calibration as cal
+from bbmc.shear.bench import Bench
+from bbmc.shear.config import Config, load_inputs
 from bbmc.shear.figures import calibration_figure, fig4, fig6
 from bbmc.stages import fit as fit_stage
-from bbmc.stages import mc as mc_stage
 
 NAME = "shear"
 PAPER_COLUMNS = {"uncorrected": "d_h_numerical_uncorrected_mm", "corrected": "d_h_numerical_corrected_mm"}
@@ -46,57 +44,6 @@ PEAK_FRACTION = 0.999  # a curve's peak is where tau first reaches this fraction
 LAW_KEYS = {"uncorrected": "K_st_uncorrected", "corrected": "K_st_corrected", "simplified": "K_st_simplified"}
 
 
-class Inputs(mc_stage.Inputs):
-    table2: InputFile
-    fig2a_legends: InputFile  # for the test curves of Fig 1, drawn beside Fig 6
-
-
-class FitSet(Section):
-    name: str = Field(min_length=1)
-    sigma_n_MPa: list[float] | None = None  # the loads at these normal stresses; none: every load
-
-
-class CalibrationSettings(Section):
-    fit_sets: list[FitSet] = Field(min_length=1)
-    tolerance_log_k: float = Field(gt=0, le=1e-3)
-
-
-class Quick(Section):
-    """What `--quick` changes: a faster shear ramp, and coarser curves."""
-
-    shear_ramp_steps: int = Field(ge=1)
-    velocity_record_every_steps: int = Field(ge=1)
-
-
-class Config(Section):
-    data: Inputs
-    joint: jm.BartonBandisJoint
-    stiffness_coefficients: mc_stage.Coefficients
-    errata: mc_stage.Errata
-    specimen: box.Specimen
-    joint_options: box.JointOptions
-    stress_controlled: box.StressControlled
-    constant_velocity: box.ConstantVelocity
-    calibration: CalibrationSettings
-    fig2a_units: fit_stage.Fig2aUnits
-    quick: Quick
-    figure_dpi: int = Field(ge=50, le=600)
-
-    @model_validator(mode="after")
-    def _constant_contact_length(self) -> Config:
-        extension = self.specimen.lower_extension_mm
-        for key, value in (
-            ("stress_controlled.slide_limit_mm", self.stress_controlled.slide_limit_mm),
-            ("constant_velocity.shear_displacement_mm", self.constant_velocity.shear_displacement_mm),
-        ):
-            if value > extension:
-                raise ValueError(
-                    f"{key} ({value:g}) exceeds specimen.lower_extension_mm ({extension:g}): the joint would "
-                    "lose contact length, and the nominal tau of the laws would no longer be the joint's"
-                )
-        return self
-
-
 def quick_config(config: Config) -> Config:
     """The config `--quick` runs: the shear ramp and the curve records from `quick`, validated again
     (ValueError if the quick settings break a rule of the config)."""
@@ -104,61 +51,6 @@ def quick_config(config: Config) -> Config:
     data["stress_controlled"]["shear_ramp_steps"] = config.quick.shear_ramp_steps
     data["constant_velocity"]["record_every_steps"] = config.quick.velocity_record_every_steps
     return Config.model_validate(data, strict=False)
-
-
-def load_inputs(config: Config) -> dict[str, pd.DataFrame]:
-    inputs = mc_stage.load_inputs(config.data)
-    inputs["table2"] = read_table(config.data.table2, {"density_kg_per_m3": POSITIVE})
-    inputs["table3"] = read_table(
-        config.data.table3,
-        {
-            "sigma_n_MPa": POSITIVE,
-            "tau_MPa": POSITIVE,
-            "d_h_test_mm": POSITIVE,
-            "d_h_numerical_uncorrected_mm": POSITIVE,
-            "d_h_numerical_corrected_mm": POSITIVE,
-            "K_st_uncorrected_MPa_per_mm": ANY,
-            "K_st_corrected_MPa_per_mm": POSITIVE,
-            "Phi_deg": ANY,
-            "C_kPa": ANY,
-        },
-    )
-    inputs["legends"] = read_table(
-        config.data.fig2a_legends, {"sigma_n_kPa": POSITIVE, "slope_a": ANY, "intercept_b": ANY}
-    )
-    return inputs
-
-
-class Bench:
-    """The shear box with this config's parameters: builds and runs the tests."""
-
-    def __init__(self, config: Config, inputs: dict[str, pd.DataFrame]) -> None:
-        self.config = config
-        self.strength, self.stiffness = mc_stage.parameters(config, inputs)
-        self.density = float(inputs["table2"]["density_kg_per_m3"].iloc[0])
-        self.scenes: dict[str, str] = {}
-
-    def law(self, shear: dict) -> dict:
-        """The joint law with eq 15's strength, eq 8's K_n and this shear-stiffness entry."""
-        return box.joint_law(shear, self.strength, self.stiffness, self.config.joint_options)
-
-    def paper_law(self, kind: box.ShearLaw, sigma_n: float) -> dict:
-        return self.law(box.shear_stiffness_law(kind, sigma_n, self.stiffness))
-
-    def stress_test(self, name: str, law: dict, sigma_n: float, tau: float, keep: bool = True) -> box.Outcome:
-        c = self.config
-        scene = box.stress_controlled_scene(
-            name, c.specimen, c.stress_controlled, self.density, law, sigma_n, tau
-        )
-        if keep:
-            self.scenes[f"scenes/{name}.yaml"] = yaml.safe_dump(scene, sort_keys=False)
-        return box.run_stress_controlled(scene)
-
-    def velocity_test(self, name: str, law: dict, sigma_n: float) -> pd.DataFrame:
-        c = self.config
-        scene = box.constant_velocity_scene(name, c.specimen, c.constant_velocity, self.density, law, sigma_n)
-        self.scenes[f"scenes/{name}.yaml"] = yaml.safe_dump(scene, sort_keys=False)
-        return box.run_constant_velocity(scene)
 
 
 def _label(sigma_n: float, tau: float | None, law: str) -> str:

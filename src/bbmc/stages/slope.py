@@ -20,105 +20,19 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from pydantic import Field, model_validator
 
-from bbmc.config import InputFile, Section
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import simulate
-from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.io import StageResult
 from bbmc.slope import figures
 from bbmc.slope import limit_equilibrium as le
 from bbmc.slope import measures as me
 from bbmc.slope import model as sm
+from bbmc.slope.config import Claims, Config, load_table4
 
 NAME = "slope"
-
-
-class Inputs(Section):
-    table4_rock_mass: InputFile
-    table4_joints_constant: InputFile
-    table4_joints_nonlinear: InputFile
-    equation_constants: InputFile
-
-
-class Claims(Section):
-    """Thresholds that turn a measure into a yes or no; stated in claims.csv beside each verdict."""
-
-    alike_fraction: float = Field(gt=0, lt=1)  # rates within this fraction of each other are alike
-    separation_mm: float = Field(gt=0)  # neighbours drawn apart by more than this have separated
-    quadratic_r2: float = Field(gt=0, le=1)  # R^2 of a quadratic fit at least this
-    onset_displacement_mm: float = Field(gt=0)  # the slide has started once block 2 moved this far
-
-
-class LimitEquilibrium(Section):
-    block_length_m: float = Field(gt=0)
-    block_thickness_m: float = Field(gt=0)
-    dips_deg: list[float] = Field(min_length=2)  # the sweep drawn in fs_vs_dip.png
-    tolerance_deg: float = Field(gt=0)  # bisection of the engine's critical dip
-    agreement_deg: dict[sm.JointModel, float]  # stated agreement, engine vs limit equilibrium
-    max_steps: int = Field(ge=1)
-    ramp_steps: int = Field(ge=0)  # the block's weight is ramped on over these steps
-    equilibrium_ratio: float = Field(gt=0)
-    slide_mm: float = Field(gt=0)
-
-
-class Sensitivity(Section):
-    dips_deg: list[float] = Field(min_length=1)
-
-
-class Config(Section):
-    data: Inputs
-    slope: JointedSlope
-    constant: sm.ConstantJoint
-    barton_bandis: sm.BartonBandisOptions
-    run: sm.Run
-    snapshots: list[float] = Field(min_length=1, max_length=6)  # fractions of duration_s (Fig 8)
-    claims: Claims
-    limit_equilibrium: LimitEquilibrium
-    sensitivity: Sensitivity
-    animation_frames: int = Field(ge=0, le=200)  # 0: no GIF
-    figure_dpi: int = Field(ge=50, le=600)
-
-    @model_validator(mode="after")
-    def _checks(self) -> Config:
-        if any(not 0 < f <= 1 for f in self.snapshots):
-            raise ValueError("snapshots are fractions of run.duration_s, each in (0, 1]")
-        if self.slope.joint_sets[0].offset_m != 0:
-            raise ValueError(
-                "slope.joint_sets.0 is the bedding: its offset_m must be 0 (the sliding plane "
-                "through the toe)"
-            )
-        if set(self.limit_equilibrium.agreement_deg) != set(sm.JOINT_MODELS):
-            raise ValueError(f"limit_equilibrium.agreement_deg needs {', '.join(sm.JOINT_MODELS)}")
-        return self
-
-
-def load_table4(data: Inputs) -> sm.Table4:
-    rock = read_table(data.table4_rock_mass, {"density_kg_per_m3": POSITIVE})
-    constant = read_table(
-        data.table4_joints_constant,
-        {c: POSITIVE for c in ("K_s_MPa_per_mm", "K_n_MPa_per_mm", "phi_deg", "c_kPa")},
-    )
-    columns = (
-        "K_st_coefficient_MPa_per_mm",
-        "K_st_exponent",
-        "K_n_coefficient_per_mm",
-        "phi_b_deg",
-        "JRC",
-        "JCS_MPa",
-        "eq15_coefficient",
-    )
-    nonlinear = read_table(data.table4_joints_nonlinear, {c: POSITIVE for c in columns})
-    constants = read_table(data.equation_constants, {"equation": POSITIVE, "value": ANY})
-    lg_e = constants.loc[constants["name"] == "lg_e", "value"]
-    return sm.Table4(
-        density_kg_m3=float(rock["density_kg_per_m3"].iloc[0]),
-        constant={k: float(v) for k, v in constant.iloc[0].items()},
-        nonlinear={k: float(v) for k, v in nonlinear.iloc[0].items()},
-        printed_lg_e=float(lg_e.iloc[0]),
-    )
 
 
 class SlopeRun:
