@@ -85,6 +85,7 @@ from bbmc.dem.layout import (
     P_Q,
     P_SHEAR_FLOOR,
     P_SIGMA_REF,
+    P_STRENGTH_DIVISOR,
     P_STRESS_FLOOR,
     P_TAU_P_INTERCEPT,
     P_TAU_P_SLOPE,
@@ -129,6 +130,7 @@ from bbmc.dem.layout import (
     X,
     Y,
 )
+from bbmc.dem.water import add_water_loads
 from bbmc.laws.stiffness import (
     bandis_shear_stiffness,
     corrected_shear_stiffness,
@@ -175,12 +177,13 @@ def _open(subs, s):
 
 
 @numba.njit(cache=True)
-def _sub_contact_law(subs, s, un, dus, after_slip):
-    """Incremental force-displacement law of one sub-contact (module docstring), in place."""
+def _sub_contact_law(subs, s, un, dus, after_slip, divisor):
+    """Incremental force-displacement law of one sub-contact (module docstring), in place; its shear and
+    tensile strengths divided by `divisor` (strength reduction; 1 otherwise)."""
     bonded = subs[s, TEN] > 0.0
     if bonded:
         sn = subs[s, SN] + subs[s, KN] * (un - subs[s, UN])
-        if sn < -subs[s, TEN]:
+        if sn < -subs[s, TEN] / divisor:
             _open(subs, s)
             subs[s, TEN] = 0.0
             subs[s, COH] = 0.0
@@ -197,7 +200,7 @@ def _sub_contact_law(subs, s, un, dus, after_slip):
             return
         sn = max(subs[s, SN] + subs[s, KN] * (un - max(subs[s, UN], 0.0)), 0.0)
     tau = subs[s, TAU] + subs[s, KS] * dus
-    strength = max(subs[s, COH] + sn * subs[s, TANPHI], 0.0)
+    strength = max(subs[s, COH] + sn * subs[s, TANPHI], 0.0) / divisor
     if abs(tau) > strength:
         tau = math.copysign(strength, tau)
         if subs[s, SLIPPED] == 0.0:
@@ -304,7 +307,7 @@ def sub_contact_place(k, n_sub):
 
 
 @numba.njit(cache=True)
-def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, dt):
+def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt):
     """Update every sub-contact's stresses and add the contact forces and moments to the blocks.
 
     Each contact's common line comes from `contact_frame`; a contact whose edges no longer face each
@@ -325,6 +328,7 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, dt):
             continue
         tx, ty = -ny, nx
         after_slip = laws[contacts[c, JOINT_TYPE], AFTER_SLIP]
+        divisor = params[contacts[c, JOINT_TYPE], P_STRENGTH_DIVISOR]
         for k in range(n_sub):
             s = first + k
             f, share = sub_contact_place(k, n_sub)
@@ -337,7 +341,7 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, dt):
             rbx, rby = cx - blocks[b, X], cy - blocks[b, Y]
             dvx = (blocks[b, VX] - blocks[b, W] * rby) - (blocks[a, VX] - blocks[a, W] * ray)
             dvy = (blocks[b, VY] + blocks[b, W] * rbx) - (blocks[a, VY] + blocks[a, W] * rax)
-            _sub_contact_law(subs, s, h_a - h_b, (dvx * tx + dvy * ty) * dt, after_slip)
+            _sub_contact_law(subs, s, h_a - h_b, (dvx * tx + dvy * ty) * dt, after_slip, divisor)
             subs[s, LENGTH] = length
             subs[s, CX] = cx
             subs[s, CY] = cy
@@ -637,6 +641,8 @@ def cycle(
     load_block,
     edge_loads,
     load_edge,
+    water_surface,
+    water_unit_weight,
     damping,
     search_distance,
     time_step_mode,
@@ -645,6 +651,7 @@ def cycle(
 ):
     """Run up to n_steps cycles. Returns (cycles done, DONE | SEARCH_NEEDED | STEP_ABOVE_CRITICAL).
 
+    Water pressure (`water_surface`, `water_unit_weight`; `bbmc.dem.water`) is added to the loads.
     time_step_mode: 0 automatic (safety x critical, recomputed after each law update), 1 fixed (the
     run stops with STEP_ABOVE_CRITICAL once the fixed step exceeds the critical one), 2 density
     scaling (fixed step, inertial masses rescaled after each law update). The laws are updated every
@@ -687,7 +694,8 @@ def cycle(
             load_edge,
             clock[STEP],
         )
-        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, dt)
+        add_water_loads(blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight)
+        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt)
         moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving)
         update_vertices(blocks, vertex_start, local, world, moving)
         clock[STEP] += 1.0

@@ -82,8 +82,11 @@ AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = 0, 1  # cohesion and tensile strength after s
     P_D,
     P_STRESS_FLOOR,
     P_SHEAR_FLOOR,
-) = range(24)
-PARAMETERS = 24
+    P_STRENGTH_DIVISOR,
+) = range(25)
+PARAMETERS = 25
+# P_STRENGTH_DIVISOR: strength reduction (`bbmc fos`): a sub-contact's shear strength c + sigma_n tan(phi)
+# and its tensile strength are divided by it; 1 for every scene that `bbmc run` runs
 
 # --- run clock: float64 (CLOCK_COLUMNS,) ------------------------------------------------------------
 STEP, TIME, DT, SINCE_UPDATE = 0, 1, 2, 3

@@ -83,6 +83,8 @@ class Model:
     load_edge: np.ndarray
     search_margin: float
     monitors: list[MonitorSpec]
+    water_surface: np.ndarray  # the phreatic surface's points (m, 2) [m]
+    water_unit_weight: float  # [N/m^3]; 0: no water
     economy: Economy = field(default_factory=Economy)
 
     @property
@@ -155,6 +157,7 @@ def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
 
 def _joint_law_row(law: ConstantLaw | BartonBandisLaw) -> tuple[list[int], np.ndarray]:
     p = np.zeros(L.PARAMETERS)
+    p[L.P_STRENGTH_DIVISOR] = 1.0
     after = L.AFTER_SLIP_ZERO if law.after_slip == "zero" else L.AFTER_SLIP_KEEP
     p[L.P_TEN] = law.tensile_strength_MPa * units.MPa
     if isinstance(law, ConstantLaw):
@@ -318,6 +321,7 @@ def build_model(scene: Scene, path: Path) -> Model:
     sizes = blocks[:, L.SIZE]
     margin = contacts.search_margin_m or 0.02 * float(np.median(sizes))
     monitors = _monitors(scene, seen, group_names, path)
+    water = scene.water
     return Model(
         scene=scene,
         block_names=names,
@@ -336,14 +340,25 @@ def build_model(scene: Scene, path: Path) -> Model:
         rule_dip=rule_dip,
         rule_law=rule_law,
         default_law=law_names.index(contacts.default_law),
-        gravity=np.array(scene.gravity_m_s2, dtype=float),
+        gravity=_gravity(scene),
         block_loads=block_loads,
         load_block=load_block,
         edge_loads=edge_loads,
         load_edge=load_edge,
         search_margin=margin,
         monitors=monitors,
+        water_surface=np.array(water.phreatic_surface_m if water else [[0.0, 0.0], [1.0, 0.0]], dtype=float),
+        water_unit_weight=water.unit_weight_kN_m3 * 1e3 if water else 0.0,
     )
+
+
+def _gravity(scene: Scene) -> np.ndarray:
+    """The acceleration on every block [m/s^2]: gravity, plus k_h |g| horizontal with a seismic load."""
+    gravity = np.array(scene.gravity_m_s2, dtype=float)
+    if scene.seismic is not None:
+        sign = -1.0 if scene.seismic.towards == "-x" else 1.0
+        gravity[0] += sign * scene.seismic.horizontal_coefficient * float(np.hypot(*gravity))
+    return gravity
 
 
 def _velocity_dofs(entry: BlockEntry) -> list[str]:

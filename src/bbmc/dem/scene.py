@@ -8,6 +8,7 @@ checked when the model is built, before any step runs.
 
 from __future__ import annotations
 
+import itertools
 from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
@@ -311,6 +312,42 @@ class Monitor(Section):
         return self
 
 
+class Water(Section):
+    """Joint water below a phreatic surface: p = unit weight x (height of the surface above the point),
+    0 above it. It pushes on every block edge below the surface, both faces of a joint alike; the
+    contact stresses (and so the joint laws) are the effective ones (`bbmc.dem.water`)."""
+
+    phreatic_surface_m: Annotated[list[Pair], Field(min_length=2)]  # x increasing; level beyond its ends
+    unit_weight_kN_m3: Positive = 9.81
+
+    @model_validator(mode="after")
+    def _increasing(self) -> Water:
+        x = [point[0] for point in self.phreatic_surface_m]
+        if any(b <= a for a, b in itertools.pairwise(x)):
+            raise ValueError("phreatic_surface_m: the points' x must increase strictly")
+        return self
+
+
+class Seismic(Section):
+    """Pseudo-static seismic load (as RocPlane's): a horizontal acceleration k_h g on every block."""
+
+    horizontal_coefficient: Annotated[float, Field(ge=0, le=1)]  # k_h
+    towards: Literal["-x", "+x"] = "-x"  # out of the slope (jointed_slope's face looks towards -x)
+
+
+class StrengthReduction(Section):
+    """`bbmc fos`: how the factor of safety is found (docs/scene-format.md, "Factor of safety")."""
+
+    tolerance: Annotated[float, Field(gt=0, le=0.1)] = 0.01  # bisection ends when the bracket is this narrow
+    barton_bandis_reduction: Literal["envelope", "phi_b_jrc"] = "envelope"
+    unbalanced_force_ratio: Annotated[float, Field(gt=0, lt=1)] = 1e-5  # below it a trial is stable
+    failure_displacement_m: Positive | None = None  # [default: 5 % of the median block size]
+    response_multiple: Annotated[float, Field(ge=1)] = 10.0  # a trial's step budget x equilibrium steps
+    min_trial_steps: Annotated[int, Field(ge=100)] = 2000
+    check_every_steps: Annotated[int, Field(ge=1)] = 100
+    largest_factor: Annotated[float, Field(gt=1)] = 20.0  # the bracket is sought in [1 / it, it]
+
+
 class Monitoring(Section):
     every_steps: Annotated[int, Field(ge=1)] = 100
     monitors: list[Monitor] = Field(default_factory=list)
@@ -328,4 +365,7 @@ class Scene(Section):
     loads: Loads = Loads()
     solver: Solver
     monitoring: Monitoring = Monitoring()
+    water: Water | None = None
+    seismic: Seismic | None = None
+    fos: StrengthReduction = StrengthReduction()
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120

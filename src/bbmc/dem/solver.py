@@ -142,7 +142,9 @@ def search_contacts(model: Model, state: State) -> None:
         kernels.update_joint_laws(
             new_contacts, new_subs, n_sub, model.laws, model.params, model.economy.changed_laws_only
         )
-    kernels.contact_forces(b, state.world, model.vertex_next, new_contacts, new_subs, n_sub, model.laws, 0.0)
+    kernels.contact_forces(
+        b, state.world, model.vertex_next, new_contacts, new_subs, n_sub, model.laws, model.params, 0.0
+    )
     state.contacts, state.subs = contacts, subs
     b[:, [L.XR, L.YR, L.THR]] = b[:, [L.X, L.Y, L.TH]]
     state.searches += 1
@@ -312,6 +314,8 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             model.load_block,
             model.edge_loads,
             model.load_edge,
+            model.water_surface,
+            model.water_unit_weight,
             solver.damping,
             model.search_margin,
             TIME_STEP_MODES[ts.mode],
