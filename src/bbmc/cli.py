@@ -22,6 +22,7 @@ from bbmc.io import provenance, write_stage
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
+from bbmc.stages import fos as fos_stage
 from bbmc.stages import mc as mc_stage
 from bbmc.stages import run as run_stage
 from bbmc.stages import shear as shear_stage
@@ -200,6 +201,45 @@ def run_command(config: str | None, results: str) -> None:
     _report_written(run_stage.NAME, out_dir, written)
 
 
+@main.command(name="fos")
+@_stage_options
+def fos_command(config: str | None, results: str) -> None:
+    """The factor of safety of a block scene by shear-strength reduction (its `fos:` section).
+
+    \b
+    Example:
+      bbmc fos --config configs/scenes/planar_crack.yaml
+    writes results/fos/<scene name>/fos.csv (every trial: F, verdict, steps, largest displacement,
+    wall time), summary.csv (factor_of_safety, trials, time), mechanism.png, bracketing.png,
+    provenance.json. Each trial is reported on stderr once the search has lasted 2 s.
+    """
+    if config is None:
+        raise click.UsageError("give the scene with --config SCENE.yaml")
+    config_path = Path(config)
+    with _reported(fos_stage.NAME):
+        scene = load_config(config_path, fos_stage.Config)
+        started = time.perf_counter()
+
+        def progress(line: str) -> None:
+            if time.perf_counter() - started >= 2.0:
+                click.echo(f"bbmc fos: {line}", err=True)
+
+        try:
+            result, outcome = fos_stage.run(scene, config_path, progress)
+        except SimulationError as error:
+            if error.bad_input:
+                raise ConfigError(f"{config_path}: {error}") from None
+            raise
+        out_dir = Path(results) / fos_stage.NAME / run_stage.output_name(scene, config_path)
+        written = write_stage(out_dir, result, provenance(fos_stage.NAME, config_path, scene))
+    bound = "" if outcome.bracketed else " (not bracketed: beyond the searched range)"
+    click.echo(
+        f"bbmc fos: factor of safety {outcome.factor_of_safety:.4g}{bound}, "
+        f"{len(outcome.trials)} trials, {time.perf_counter() - started:.1f} s"
+    )
+    _report_written(fos_stage.NAME, out_dir, written)
+
+
 @main.command(name="bench")
 @_stage_options
 def bench_command(config: str | None, results: str) -> None:
@@ -228,8 +268,10 @@ def slope_command(config: str | None, results: str) -> None:
       bbmc slope --config configs/slope.yaml
     writes results/slope/claims.csv (each claim of section 5.2, measured in both runs),
     fig7_blocks.csv, fig8_vectors.csv, fig9_joints.csv, fig10_displacements.csv, fig10_fits.csv,
-    fs_vs_dip.csv, critical_dip.csv, dip_sensitivity.csv, fig7.png ... fig10.png, fs_vs_dip.png,
-    dip_sensitivity.png, animation.gif, provenance.json
+    fs_vs_dip.csv, critical_dip.csv, dip_sensitivity.csv, factor_of_safety.csv (strength reduction
+    and planar limit equilibrium, both models), fig7.png ... fig10.png, fs_vs_dip.png,
+    dip_sensitivity.png, fos_constant.png, fos_barton_bandis.png (mechanisms), animation.gif,
+    provenance.json
     """
     _run_stage(slope_stage, config, results, progress_after_s=2.0)
 

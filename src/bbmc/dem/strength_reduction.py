@@ -1,0 +1,230 @@
+"""The factor of safety of a block scene by shear-strength reduction (UDEC's ``SOLVE FOS``, 3DEC's
+``model factor-of-safety``), for Mohr-Coulomb and Barton-Bandis joints.
+
+The scene is first brought to equilibrium with its strengths as given: the unreduced equilibrium,
+computed once, in N_r steps. Each trial at a factor F starts from that state with every joint's
+strength divided by F (`reduced_params`):
+
+* Mohr-Coulomb: c / F, tan(phi) / F and the tensile strength T / F (as cohesion, T is a strength).
+* Barton-Bandis, ``envelope`` (the default): the tangent c and tan(phi) are recomputed from the
+  *unreduced* eq 9 envelope at every law update, at the sub-contact's current sigma_n, and then divided
+  by F, so the strength is tau_p(sigma_n) / F; T / F.
+* Barton-Bandis, ``phi_b_jrc``: tan(phi_b) / F and JRC / F, and the envelope recomputed from them (a
+  reduction some authors use; phi_max and JCS kept; eq 15's coefficient recomputed if it is "exact").
+
+A trial's verdict (`settle`): *stable* once the unbalanced-force ratio falls below the limit, read
+every `check_every_steps`; *unstable* once any vertex of a block has moved `failure_displacement_m`
+from the start state, or when the trial's budget, max(min_trial_steps, response_multiple x N_r)
+steps, ends first (the ratio settled above the limit: "not settled"). The budget is Itasca's
+characteristic response time: a stable system settles in a time of the order of the equilibrium run's.
+
+The search (`factor_of_safety`): F = 1 holds by the equilibrium itself; F is doubled until a trial
+fails, then the bracket [stable F, unstable F] is bisected until it is narrower than `tolerance`; the
+factor of safety is its middle. A scene that finds no equilibrium with its own strengths (FS < 1)
+starts instead from its equilibrium with every strength multiplied by 1e6 (elastic: no joint slips, as
+FLAC takes its response time), and F is halved from 1 until a trial holds. A bracket not found within
+[1 / largest_factor, largest_factor] is reported as that bound, not bracketed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from bbmc import laws
+from bbmc.dem import kernels
+from bbmc.dem import layout as L
+from bbmc.dem import monitors as mon
+from bbmc.dem.model import Model
+from bbmc.dem.scene import StrengthReduction
+from bbmc.dem.solver import SimulationError, State, advance, prepare
+
+ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equilibrium unreduced
+STABLE, UNSTABLE = "stable", "unstable"
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One trial: its factor, verdict and why, steps run, the largest vertex displacement from the
+    start state [m], the unbalanced-force ratio at its end [1], and its wall time [s]."""
+
+    factor: float
+    verdict: str
+    reason: str  # equilibrium | displacement | not_settled
+    steps: int
+    largest_displacement_m: float
+    unbalanced_force_ratio: float
+    seconds: float
+
+
+@dataclass
+class StrengthReductionResult:
+    factor_of_safety: float
+    bracket: tuple[float, float]  # the last stable and the first unstable factor found
+    bracketed: bool  # False: FS lies beyond the searched range; factor_of_safety is that bound
+    start: str  # unreduced | elastic
+    equilibrium_steps: int
+    equilibrium_seconds: float
+    trials: list[Trial]
+    start_world: np.ndarray  # the vertices at the start of every trial [m]
+    mechanism_world: np.ndarray | None  # the vertices at the end of the lowest unstable trial [m]
+    failure_displacement_m: float
+
+
+def reduced_params(model: Model, factor: float, reduction: str) -> np.ndarray:
+    """The joint types' parameters with their strength reduced by `factor` (module docstring)."""
+    params = model.params.copy()
+    params[:, L.P_STRENGTH_DIVISOR] = factor
+    if reduction == "phi_b_jrc":
+        bb = model.laws[:, L.STRENGTH_LAW] == L.STRENGTH_BARTON_BANDIS
+        exact = np.isclose(
+            params[bb, L.P_K_TANGENT], laws.exact_tangent_coefficient(params[bb, L.P_JRC]), rtol=1e-12
+        )
+        params[bb, L.P_STRENGTH_DIVISOR] = 1.0
+        params[bb, L.P_JRC] /= factor
+        params[bb, L.P_PHI_B] = np.arctan(np.tan(params[bb, L.P_PHI_B]) / factor)
+        params[bb, L.P_K_TANGENT] = np.where(
+            exact, laws.exact_tangent_coefficient(params[bb, L.P_JRC]), params[bb, L.P_K_TANGENT]
+        )
+    return params
+
+
+def copy_state(state: State) -> State:
+    return dataclasses.replace(
+        state,
+        clock=state.clock.copy(),
+        blocks=state.blocks.copy(),
+        world=state.world.copy(),
+        contacts=state.contacts.copy(),
+        subs=state.subs.copy(),
+        dt_range=list(state.dt_range),
+    )
+
+
+def largest_displacement(state: State, start_world: np.ndarray) -> float:
+    """The largest distance any vertex has moved from `start_world` [m]."""
+    return float(np.max(np.hypot(*(state.world - start_world).T), initial=0.0))
+
+
+def settle(
+    model: Model,
+    state: State,
+    settings: StrengthReduction,
+    budget: int,
+    failure_displacement: float,
+    reference: float,
+) -> tuple[str, str]:
+    """Run `state` until its verdict (module docstring): (verdict, reason)."""
+    start_world, first = state.world.copy(), state.step
+    while state.step - first < budget:
+        advance(model, state, min(settings.check_every_steps, budget - (state.step - first)))
+        if largest_displacement(state, start_world) > failure_displacement:
+            return UNSTABLE, "displacement"
+        if (
+            state.step >= model.loads_applied_step
+            and mon.unbalanced_force_ratio(state, reference) < settings.unbalanced_force_ratio
+        ):
+            return STABLE, "equilibrium"
+    return UNSTABLE, "not_settled"
+
+
+def _with_params(model: Model, params: np.ndarray) -> Model:
+    return dataclasses.replace(model, params=params)
+
+
+def _equilibrium(
+    model: Model, settings: StrengthReduction, failure: float, reference: float
+) -> tuple[str, State, int, float]:
+    """The start state of every trial: (unreduced | elastic, the state, its steps N_r, seconds)."""
+    started = time.perf_counter()
+    budget = model.scene.solver.steps
+    for start, factor in (("unreduced", 1.0), ("elastic", ELASTIC_DIVISOR)):
+        trial_model = _with_params(model, reduced_params(model, factor, "envelope"))
+        state = prepare(trial_model)
+        verdict, _ = settle(trial_model, state, settings, budget, failure, reference)
+        if verdict == STABLE:
+            return start, state, state.step, time.perf_counter() - started
+    raise SimulationError(
+        f"the scene finds no equilibrium in solver.steps = {budget} steps even with every strength x 1e6 "
+        "(elastic): raise solver.steps, or check that every block is supported"
+    )
+
+
+def default_failure_displacement(model: Model) -> float:
+    """5 % of the median block size [m]."""
+    return 0.05 * float(np.median(model.blocks[:, L.SIZE]))
+
+
+def factor_of_safety(
+    model: Model, progress: Callable[[str], None] = lambda _: None
+) -> StrengthReductionResult:
+    """The scene's factor of safety by strength reduction (module docstring), with every trial."""
+    settings = model.scene.fos
+    failure = settings.failure_displacement_m or default_failure_displacement(model)
+    reference = mon.reference_force(model)
+    progress("equilibrium with the strengths as given")
+    start, equilibrium, n_r, eq_seconds = _equilibrium(model, settings, failure, reference)
+    budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * n_r))
+    progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
+    trials: list[Trial] = []
+    mechanism = None
+
+    def attempt(factor: float) -> bool:
+        nonlocal mechanism
+        state = copy_state(equilibrium)
+        trial_model = _with_params(model, reduced_params(model, factor, settings.barton_bandis_reduction))
+        if settings.barton_bandis_reduction == "phi_b_jrc" and trial_model.variable_laws:
+            state.subs[:, L.LAW_SN] = math.nan  # the envelope changed: re-evaluate every sub-contact
+            kernels.update_joint_laws(
+                state.contacts, state.subs, state.n_sub, trial_model.laws, trial_model.params, True
+            )
+        started, first = time.perf_counter(), state.step
+        verdict, reason = settle(trial_model, state, settings, budget, failure, reference)
+        trial = Trial(
+            factor=factor,
+            verdict=verdict,
+            reason=reason,
+            steps=state.step - first,
+            largest_displacement_m=largest_displacement(state, equilibrium.world),
+            unbalanced_force_ratio=mon.unbalanced_force_ratio(state, reference),
+            seconds=time.perf_counter() - started,
+        )
+        trials.append(trial)
+        progress(
+            f"trial {len(trials)}: F = {factor:.4g} {verdict} ({reason}, {trial.steps} steps, "
+            f"{trial.seconds:.1f} s)"
+        )
+        if verdict == UNSTABLE and all(t.factor >= factor for t in trials if t.verdict == UNSTABLE):
+            mechanism = state.world.copy()
+        return verdict == STABLE
+
+    largest = settings.largest_factor
+    lo, hi = (1.0, math.inf) if start == "unreduced" else (0.0, 1.0)
+    while hi == math.inf and lo < largest:
+        factor = min(2.0 * lo, largest)
+        lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
+    while lo == 0.0 and hi > 1.0 / largest:
+        factor = max(0.5 * hi, 1.0 / largest)
+        lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
+    bracketed = lo > 0.0 and hi < math.inf
+    while bracketed and hi - lo > settings.tolerance:
+        factor = 0.5 * (lo + hi)
+        lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
+    fs = 0.5 * (lo + hi) if bracketed else (lo if hi == math.inf else hi)
+    return StrengthReductionResult(
+        factor_of_safety=fs,
+        bracket=(lo, hi),
+        bracketed=bracketed,
+        start=start,
+        equilibrium_steps=n_r,
+        equilibrium_seconds=eq_seconds,
+        trials=trials,
+        start_world=equilibrium.world.copy(),
+        mechanism_world=mechanism,
+        failure_displacement_m=failure,
+    )

@@ -1,0 +1,78 @@
+"""`bbmc fos`: the factor of safety of any block scene by shear-strength reduction
+(`bbmc.dem.strength_reduction`); the scene format plus its optional `fos:` section.
+
+Writes into <results>/fos/<scene name>/: fos.csv (every trial: F, verdict, why, steps, largest
+displacement, unbalanced-force ratio, wall time), summary.csv (`quantity,value,unit`, with the row
+factor_of_safety), mechanism.png (displacement at the end of the lowest unstable trial),
+bracketing.png (the trials' F in order) and provenance.json.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pandas as pd
+
+from bbmc.dem.figures import bracketing_figure, mechanism_figure
+from bbmc.dem.model import build_model
+from bbmc.dem.scene import Scene
+from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.io import StageResult
+
+NAME = "fos"
+Config = Scene
+
+
+def trial_table(result: StrengthReductionResult) -> pd.DataFrame:
+    """fos.csv: one row per trial, in the order run."""
+    return pd.DataFrame(
+        {
+            "trial": range(1, len(result.trials) + 1),
+            "factor": [t.factor for t in result.trials],
+            "verdict": [t.verdict for t in result.trials],
+            "reason": [t.reason for t in result.trials],
+            "steps": [t.steps for t in result.trials],
+            "largest_displacement_mm": [t.largest_displacement_m * 1e3 for t in result.trials],
+            "unbalanced_force_ratio": [t.unbalanced_force_ratio for t in result.trials],
+            "wall_time_s": [t.seconds for t in result.trials],
+        }
+    )
+
+
+def summary_table(result: StrengthReductionResult, scene: Scene, seconds: float) -> pd.DataFrame:
+    settings = scene.fos
+    rows = [
+        ("factor_of_safety", result.factor_of_safety, "1"),
+        ("bracketed", int(result.bracketed), "1"),
+        ("last_stable_factor", result.bracket[0], "1"),
+        ("first_unstable_factor", result.bracket[1], "1"),
+        ("tolerance", settings.tolerance, "1"),
+        ("start_from_elastic_equilibrium", int(result.start == "elastic"), "1"),
+        ("equilibrium_steps", result.equilibrium_steps, "1"),
+        ("equilibrium_wall_time", result.equilibrium_seconds, "s"),
+        ("trials", len(result.trials), "1"),
+        ("trial_steps", sum(t.steps for t in result.trials), "1"),
+        ("wall_time", seconds, "s"),
+        ("unbalanced_force_ratio_limit", settings.unbalanced_force_ratio, "1"),
+        ("failure_displacement", result.failure_displacement_m * 1e3, "mm"),
+        ("barton_bandis_reduction_phi_b_jrc", int(settings.barton_bandis_reduction == "phi_b_jrc"), "1"),
+    ]
+    return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
+
+
+def run(
+    scene: Scene, config_path: Path, progress: Callable[[str], None] = lambda _: None
+) -> tuple[StageResult, StrengthReductionResult]:
+    """Build the scene (checking every reference), find its factor of safety, tabulate and draw."""
+    started = time.perf_counter()
+    model = build_model(scene, config_path)
+    result = factor_of_safety(model, progress)
+    seconds = time.perf_counter() - started
+    tables = {"fos": trial_table(result), "summary": summary_table(result, scene, seconds)}
+    figures = {
+        "bracketing": bracketing_figure(result, scene.figure_dpi),
+        "mechanism": mechanism_figure(model, result, scene.figure_dpi),
+    }
+    return StageResult(tables=tables, figures=figures), result
