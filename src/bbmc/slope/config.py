@@ -6,7 +6,7 @@ from __future__ import annotations
 from pydantic import Field, model_validator
 
 from bbmc.config import InputFile, Section
-from bbmc.dem.scene import JointedSlope
+from bbmc.dem.scene import JointedSlope, StrengthReduction
 from bbmc.io import ANY, POSITIVE, read_table
 from bbmc.slope import model as sm
 
@@ -43,6 +43,13 @@ class Sensitivity(Section):
     dips_deg: list[float] = Field(min_length=1)
 
 
+class FactorOfSafety(StrengthReduction):
+    """Strength reduction on the slope's scenes (`bbmc fos`'s settings) and the step budget of the
+    equilibrium every trial starts from."""
+
+    max_steps: int = Field(ge=1)
+
+
 class Config(Section):
     data: Inputs
     slope: JointedSlope
@@ -53,6 +60,7 @@ class Config(Section):
     claims: Claims
     limit_equilibrium: LimitEquilibrium
     sensitivity: Sensitivity
+    factor_of_safety: FactorOfSafety
     animation_frames: int = Field(ge=0, le=200)  # 0: no GIF
     figure_dpi: int = Field(ge=50, le=600)
 

@@ -1,5 +1,6 @@
 """`bbmc slope`: the jointed limestone slope of the paper's section 5 (Table 4, Figs 7-10), both joint
-models, the claims of section 5.2 measured, a limit-equilibrium check and a dip sensitivity study.
+models, the claims of section 5.2 measured, a limit-equilibrium check, a dip sensitivity study, and
+the slope's factor of safety by strength reduction and by planar limit equilibrium (`slope.safety`).
 
 Read from data/paper as inputs: Table 4 (density, the constant and the nonlinear joint parameters) and
 eq 6's printed lg e (behind Table 4's K_n coefficient). Nothing the paper reports as a result of its
@@ -22,11 +23,12 @@ import numpy as np
 import pandas as pd
 
 from bbmc.dem import layout as L
+from bbmc.dem.figures import mechanism_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import simulate
 from bbmc.io import StageResult
-from bbmc.slope import figures
+from bbmc.slope import figures, safety
 from bbmc.slope import limit_equilibrium as le
 from bbmc.slope import measures as me
 from bbmc.slope import model as sm
@@ -399,6 +401,8 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     progress("limit equilibrium")
     sweep, critical = limit_equilibrium(config, table4)
     dips = sensitivity(config, table4, progress)
+    progress("factor of safety by strength reduction, both models")
+    safety_table, reductions = safety.factor_of_safety_table(config, table4)
     snapshots = snapshot_table(runs, config.snapshots)
     joints = joint_histories(runs)
     moves = displacement_histories(runs)
@@ -417,6 +421,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "fs_vs_dip": sweep,
             "critical_dip": critical,
             "dip_sensitivity": dips,
+            "factor_of_safety": safety_table,
         },
         figures={
             "fig7": figures.fig7(runs["constant"].model, runs["constant"].numbering, config.slope, dpi),
@@ -425,6 +430,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "fig10": figures.fig10(moves, fits, dpi),
             "fs_vs_dip": figures.fs_vs_dip(sweep, critical, dpi),
             "dip_sensitivity": figures.dip_sensitivity(dips, dpi),
+            **{f"fos_{kind}": mechanism_figure(*reductions[kind], dpi) for kind in sm.JOINT_MODELS},
         },
         files=files,
     )

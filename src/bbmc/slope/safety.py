@@ -1,0 +1,108 @@
+"""The factor of safety of the paper's slope, which the paper never gives: by strength reduction on
+the engine (`bbmc.dem.strength_reduction`) for both joint models, and by Hoek & Bray's planar limit
+equilibrium (`bbmc.slope.planar`) for sliding on the bedding joint through the toe.
+
+The limit equilibrium's block is everything above that bedding joint, from the toe to where it meets
+the upper surface (no tension crack: the cross joints dip at 80 deg, not vertically, and the bedding
+reaches the upper surface inside the model). The constant joint is given twice: with Table 4's
+cohesion on the whole plane, and without it (3DEC's Coulomb joint, which the slope runs use, loses its
+cohesion where it slips, so a progressive slide ends on friction alone). The Barton-Bandis strength is
+eq 9 at the plane's mean effective normal stress.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pandas as pd
+
+from bbmc import units
+from bbmc.dem.model import Model, build_model
+from bbmc.dem.scene import Scene
+from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.slope import model as sm
+from bbmc.slope import planar
+from bbmc.slope.config import Config
+
+G = 9.81  # m/s^2, the scenes' gravity
+
+
+def strength_reduction(
+    config: Config, table4: sm.Table4, kind: sm.JointModel
+) -> tuple[Model, StrengthReductionResult]:
+    """The slope's FS with one joint model by strength reduction (its wall time: `bbmc bench`)."""
+    law = sm.joint_law(kind, table4, config.constant, config.barton_bandis)
+    scene = sm.slope_scene(f"slope_{kind}", config.slope, table4.density_kg_m3, law, config.run, [])
+    settings = config.factor_of_safety
+    scene["solver"]["steps"] = settings.max_steps
+    scene["solver"]["stop"] = None
+    scene["fos"] = settings.model_dump(exclude={"max_steps"})
+    model = build_model(Scene.model_validate(scene, strict=False), Path(f"slope_{kind}.yaml"))
+    return model, factor_of_safety(model)
+
+
+def limit_equilibrium(config: Config, table4: sm.Table4) -> list[dict]:
+    """Planar sliding on the bedding through the toe (module docstring): one row per strength."""
+    s = config.slope
+    forces = planar.planar_forces(
+        s.height_m,
+        math.radians(s.face_angle_deg),
+        math.radians(s.joint_sets[0].dip_deg),
+        0.0,
+        0.0,
+        table4.density_kg_m3 * G,
+    )
+    c, n = table4.constant, table4.nonlinear
+    friction = math.radians(c["phi_deg"])
+    rows = [
+        (
+            "constant",
+            "Table 4's c on the whole plane",
+            planar.factor_of_safety_mohr_coulomb(forces, c["c_kPa"] * units.kPa, friction),
+        ),
+        (
+            "constant",
+            "no cohesion (lost where the joint slips)",
+            planar.factor_of_safety_mohr_coulomb(forces, 0.0, friction),
+        ),
+        (
+            "barton_bandis",
+            "eq 9 at the plane's mean sigma_n",
+            planar.factor_of_safety_barton_bandis(
+                forces,
+                n["JRC"],
+                n["JCS_MPa"] * units.MPa,
+                math.radians(n["phi_b_deg"]),
+                math.radians(config.barton_bandis.phi_max_deg),
+            ),
+        ),
+    ]
+    return [
+        {"model": kind, "method": "limit_equilibrium_planar", "strength": what, "factor_of_safety": float(fs)}
+        for kind, what, fs in rows
+    ]
+
+
+def factor_of_safety_table(
+    config: Config, table4: sm.Table4
+) -> tuple[pd.DataFrame, dict[str, tuple[Model, StrengthReductionResult]]]:
+    """factor_of_safety.csv (both methods, both models) and each model's strength-reduction result."""
+    rows, results = [], {}
+    for kind in sm.JOINT_MODELS:
+        model, result = strength_reduction(config, table4, kind)
+        results[kind] = (model, result)
+        rows.append(
+            {
+                "model": kind,
+                "method": "strength_reduction",
+                "strength": "the scene's joint law, reduced",
+                "factor_of_safety": result.factor_of_safety,
+                "last_stable_factor": result.bracket[0],
+                "first_unstable_factor": result.bracket[1],
+                "start": result.start,
+                "trials": len(result.trials),
+            }
+        )
+    table = pd.DataFrame(rows + limit_equilibrium(config, table4))
+    return table.astype({"trials": "Int64"}), results
