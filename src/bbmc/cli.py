@@ -252,7 +252,9 @@ def bench_command(config: str | None, results: str) -> None:
     converged reference, Pareto front), tradeoff_readings.csv (what was read, per run),
     recommended.csv (each knob's fastest value within the target error), economy.csv (the gain of each
     piece of work the engine leaves out), scaling.csv (time per step and peak memory, 100 to 100,000
-    blocks), laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
+    blocks), engine_cost.csv (time per step against an earlier commit), fos_cost.csv (each
+    verification factor of safety: error, trials, wall time, and its change with one solver setting),
+    laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios.
     """
     _run_stage(bench_stage, config, results, progress_after_s=0.0)

@@ -28,16 +28,22 @@ from bbmc.slope.config import Config
 G = 9.81  # m/s^2, the scenes' gravity
 
 
-def strength_reduction(
-    config: Config, table4: sm.Table4, kind: sm.JointModel
-) -> tuple[Model, StrengthReductionResult]:
-    """The slope's FS with one joint model by strength reduction (its wall time: `bbmc bench`)."""
+def reduction_scene(config: Config, table4: sm.Table4, kind: sm.JointModel) -> dict:
+    """The slope's scene with one joint model, its `fos:` section and equilibrium budget from the config."""
     law = sm.joint_law(kind, table4, config.constant, config.barton_bandis)
     scene = sm.slope_scene(f"slope_{kind}", config.slope, table4.density_kg_m3, law, config.run, [])
     settings = config.factor_of_safety
     scene["solver"]["steps"] = settings.max_steps
     scene["solver"]["stop"] = None
     scene["fos"] = settings.model_dump(exclude={"max_steps"})
+    return scene
+
+
+def strength_reduction(
+    config: Config, table4: sm.Table4, kind: sm.JointModel
+) -> tuple[Model, StrengthReductionResult]:
+    """The slope's FS with one joint model by strength reduction (its wall time: `bbmc bench`)."""
+    scene = reduction_scene(config, table4, kind)
     model = build_model(Scene.model_validate(scene, strict=False), Path(f"slope_{kind}.yaml"))
     return model, factor_of_safety(model)
 

@@ -9,6 +9,8 @@ scaling.csv / scaling.png: time per step and peak memory on generated jointed sl
 (`bbmc.bench.scaling`).
 engine_cost.csv: time per step of this engine against an earlier commit's on the scaling slope and the
 shear box, in alternating fresh processes (`bbmc.bench.engine_cost`).
+fos_cost.csv: trials, steps and wall time of each factor of safety the verification runs, and how far
+it moves with one solver setting changed at a time (`bbmc.bench.fos_cost`).
 
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
@@ -33,6 +35,7 @@ from bbmc import laws, units
 from bbmc.bench import tradeoff as to
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
+from bbmc.bench.fos_cost import fos_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.scaling import scaling_figure, scaling_table
 from bbmc.config import InputFile, Section
@@ -103,6 +106,12 @@ class Laws(Section):
     repeats: Repeats
 
 
+class FosCost(Section):
+    """Each variant is one change laid over every verification scene (`bbmc.bench.fos_cost`)."""
+
+    variants: dict[str, dict] = Field(min_length=1)
+
+
 class Config(Section):
     shear_config: InputFile  # the paper's scenes, exactly as bbmc shear and bbmc slope build them
     slope_config: InputFile
@@ -110,6 +119,7 @@ class Config(Section):
     economy: Economies
     scaling: Scaling
     engine_cost: EngineCost
+    fos: FosCost
     laws: Laws
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
@@ -211,6 +221,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     cost = engine_cost_table(
         e.commit, e.block_counts, e.steps, e.repeats, config.slope_config, config.shear_config, progress
     )
+    fos = fos_cost_table(config.slope_config, config.fos.variants, progress)
     progress("joint laws' throughput")
     return StageResult(
         tables={
@@ -220,6 +231,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "economy": economies,
             "scaling": growth,
             "engine_cost": cost,
+            "fos_cost": fos,
             "laws": law_table(config.laws),
         },
         figures={
