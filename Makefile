@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: reproduce test test-slow bench lint fit mc audit shear slope clean
+.PHONY: reproduce test test-slow bench lint fit mc audit shear slope fos clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-reproduce: fit mc audit shear slope
+reproduce: fit mc audit shear slope fos
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -28,6 +28,9 @@ shear: $(STAMP)
 
 slope: $(STAMP)
 	$(BIN)/bbmc slope --config configs/slope.yaml
+
+fos: $(STAMP)
+	$(BIN)/bbmc fos --config configs/scenes/planar_crack.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q
