@@ -47,6 +47,17 @@ def _reported(name: str) -> Iterator[None]:
         sys.exit(1)
 
 
+@contextmanager
+def _scene_at_fault(config_path: Path) -> Iterator[None]:
+    """A run stopped by the scene itself (an unusable time step) is bad input naming the scene file."""
+    try:
+        yield
+    except SimulationError as error:
+        if error.bad_input:
+            raise ConfigError(f"{config_path}: {error}") from None
+        raise
+
+
 def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
     click.echo(f"bbmc {name}: wrote {len(written)} files to {out_dir}/")
     for path in written:
@@ -187,11 +198,8 @@ def run_command(config: str | None, results: str) -> None:
         scene = load_config(config_path, run_stage.Config)
         progress = _Progress(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
-            result, outcome = run_stage.run(scene, config_path, progress)
-        except SimulationError as error:
-            if error.bad_input:
-                raise ConfigError(f"{config_path}: {error}") from None
-            raise
+            with _scene_at_fault(config_path):
+                result, outcome = run_stage.run(scene, config_path, progress)
         finally:
             progress.close()
         for warning in outcome.warnings:
@@ -224,12 +232,8 @@ def fos_command(config: str | None, results: str) -> None:
             if time.perf_counter() - started >= 2.0:
                 click.echo(f"bbmc fos: {line}", err=True)
 
-        try:
+        with _scene_at_fault(config_path):
             result, outcome = fos_stage.run(scene, config_path, progress)
-        except SimulationError as error:
-            if error.bad_input:
-                raise ConfigError(f"{config_path}: {error}") from None
-            raise
         out_dir = Path(results) / fos_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(fos_stage.NAME, config_path, scene))
     bound = "" if outcome.bracketed else " (not bracketed: beyond the searched range)"
