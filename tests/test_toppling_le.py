@@ -373,3 +373,18 @@ def test_invalid_systems_are_refused():
         tp.BlockSystem(np.array([1.0, -1.0]), np.ones(2), np.ones(2), DX, ALPHA)
     with pytest.raises(ValueError):
         tp.regular_system(DX, ALPHA, 10, 1.0, 5.0, 1.0)  # a1 − b = 0: no growth to the crest
+
+
+def test_factor_of_safety_broadcasts_over_friction_arrays(rounded):
+    """One call for many samples (Monte Carlo): each element equals the scalar call (to 1e-12)."""
+    angles = np.radians([39.0, 42.0, 45.0])
+    sides = np.radians([35.0, 38.0, 41.0])
+    together = tp.factor_of_safety(rounded, angles)
+    apart = [float(tp.factor_of_safety(rounded, float(a))) for a in angles]
+    np.testing.assert_allclose(together, apart, rtol=1e-12)
+    paired = tp.factor_of_safety(rounded, angles, sides)
+    alone = [
+        float(tp.factor_of_safety(rounded, float(a), float(d))) for a, d in zip(angles, sides, strict=True)
+    ]
+    np.testing.assert_allclose(paired, alone, rtol=1e-12)
+    assert paired.shape == (3,)

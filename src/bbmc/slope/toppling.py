@@ -448,16 +448,23 @@ def limiting_friction(
     return float(brentq(p0, low, high, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=500))
 
 
-def factor_of_safety(blocks: BlockSystem, friction: float, side_friction: float | None = None) -> float:
-    """FS [1]: the factor by which tan φ_p and tan φ_d must both be divided for P_0 = 0.
+def factor_of_safety(
+    blocks: BlockSystem, friction: ArrayLike, side_friction: ArrayLike | None = None
+) -> NDArray[np.float64]:
+    """FS [1]: the factor by which tan φ_p and tan φ_d must both be divided for P_0 = 0; broadcast over
+    arrays of friction angles [rad] (a Monte Carlo calls it once for all samples).
 
     With one friction angle on bases and sides this is [HB81]'s FS = tan φ / tan φ_limit.
     """
-    tp = math.tan(friction)
     if side_friction is None:
-        return tp / math.tan(limiting_friction(blocks))
-    td = math.tan(side_friction)
+        return np.tan(friction) / math.tan(limiting_friction(blocks))
+    return np.vectorize(lambda p, d: _factor_of_safety_two_angles(blocks, p, d), otypes=[float])(
+        friction, side_friction
+    )
 
+
+def _factor_of_safety_two_angles(blocks: BlockSystem, friction: float, side_friction: float) -> float:
+    tp, td = math.tan(friction), math.tan(side_friction)
     scale = blocks.width * float(blocks.heights.sum())
 
     def p0(fs: float) -> float:
