@@ -21,9 +21,9 @@ class ConfigError(Exception):
 
 
 class Section(BaseModel):
-    """Base of every config section: frozen, strict types, no unknown keys."""
+    """Base of every config section: frozen, strict types, no unknown keys, no NaN or infinite numbers."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
 
 
 def _existing_file(value: Path, info: ValidationInfo) -> Path:

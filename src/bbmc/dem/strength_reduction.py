@@ -22,8 +22,13 @@ The search (`factor_of_safety`): F = 1 holds by the equilibrium itself; F is dou
 fails, then the bracket [stable F, unstable F] is bisected until it is narrower than `tolerance`; the
 factor of safety is its middle. A scene that finds no equilibrium with its own strengths (FS < 1)
 starts instead from its equilibrium with every strength multiplied by 1e6 (elastic: no joint slips, as
-FLAC takes its response time), and F is halved from 1 until a trial holds. A bracket not found within
-[1 / largest_factor, largest_factor] is reported as that bound, not bracketed.
+FLAC takes its response time), and F = 1 is tried from there: if it holds (the unreduced run had only
+not settled in its budget, or failed from the sudden switch-on of gravity) F is doubled as above, else
+halved until a trial holds. A bracket not found within [1 / largest_factor, largest_factor] is
+reported as that bound, not bracketed. In the `phi_b_jrc` mode the tensile strength of Barton-Bandis
+joints is divided by F on the trial's sub-contacts, as the divisor does for the other joints. The
+stiffness laws keep reading the unreduced strength (tau_p in the Bandis K_s): the path changes, not
+the limit.
 """
 
 from __future__ import annotations
@@ -155,9 +160,19 @@ def _equilibrium(
     )
 
 
-def default_failure_displacement(model: Model) -> float:
-    """5 % of the median block size [m]."""
-    return 0.05 * float(np.median(model.blocks[:, L.SIZE]))
+def failure_displacement(model: Model) -> float:
+    """The scene's `fos.failure_displacement_m`, or 5 % of the median size of the blocks free to move
+    [m]; refused when larger than the whole model (every failing trial would run out its budget)."""
+    given = model.scene.fos.failure_displacement_m
+    free = ~model.immobile
+    sizes = model.blocks[free if free.any() else slice(None), L.SIZE]
+    extent = float(np.ptp(model.local, axis=0).max() + np.ptp(model.blocks[:, [L.X, L.Y]], axis=0).max())
+    if given is not None and given > extent:
+        raise SimulationError(
+            f"key 'fos.failure_displacement_m': {given:g} m is larger than the whole model ({extent:.3g} m)",
+            bad_input=True,
+        )
+    return given if given is not None else 0.05 * float(np.median(sizes))
 
 
 def factor_of_safety(
@@ -165,7 +180,7 @@ def factor_of_safety(
 ) -> StrengthReductionResult:
     """The scene's factor of safety by strength reduction (module docstring), with every trial."""
     settings = model.scene.fos
-    failure = settings.failure_displacement_m or default_failure_displacement(model)
+    failure = failure_displacement(model)
     reference = mon.reference_force(model)
     progress("equilibrium with the strengths as given")
     start, equilibrium, n_r, eq_seconds = _equilibrium(model, settings, failure, reference)
@@ -183,6 +198,9 @@ def factor_of_safety(
             kernels.update_joint_laws(
                 state.contacts, state.subs, state.n_sub, trial_model.laws, trial_model.params, True
             )
+            # the divisor is 1 for these joints: their tensile strength is divided here instead
+            law = trial_model.laws[state.contacts[:, L.JOINT_TYPE], L.STRENGTH_LAW]
+            state.subs[np.repeat(law == L.STRENGTH_BARTON_BANDIS, state.n_sub), L.TEN] /= factor
         started, first = time.perf_counter(), state.step
         verdict, reason = settle(trial_model, state, settings, budget, failure, reference)
         trial = Trial(
@@ -204,7 +222,9 @@ def factor_of_safety(
         return verdict == STABLE
 
     largest = settings.largest_factor
-    lo, hi = (1.0, math.inf) if start == "unreduced" else (0.0, 1.0)
+    lo, hi = 1.0, math.inf  # F = 1 holds: the unreduced equilibrium, or its trial from the elastic one
+    if start == "elastic" and not attempt(1.0):
+        lo, hi = 0.0, 1.0
     while hi == math.inf and lo < largest:
         factor = min(2.0 * lo, largest)
         lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
