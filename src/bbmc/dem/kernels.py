@@ -47,6 +47,7 @@ from bbmc.dem.layout import (
     CORNER_ROUNDING,
     CX,
     CY,
+    DILATION,
     DT,
     EDGE_A,
     EDGE_B,
@@ -57,6 +58,7 @@ from bbmc.dem.layout import (
     JOINT_TYPE,
     KN,
     KS,
+    LAW_PATH,
     LAW_SN,
     LAW_TAU,
     LENGTH,
@@ -64,6 +66,7 @@ from bbmc.dem.layout import (
     MW,
     MX,
     MY,
+    NORMAL_BANDIS,
     NORMAL_CONSTANT,
     NORMAL_EQ8,
     NORMAL_LAW,
@@ -71,14 +74,17 @@ from bbmc.dem.layout import (
     P_B,
     P_COH,
     P_D,
+    P_DAMAGE,
     P_JCS,
     P_JRC,
     P_K_J,
+    P_K_NI,
     P_K_TANGENT,
     P_KN,
     P_KS,
     P_LG_E,
     P_N_J,
+    P_PEAK_DISPLACEMENT,
     P_PHI,
     P_PHI_B,
     P_PHI_MAX,
@@ -92,6 +98,8 @@ from bbmc.dem.layout import (
     P_TAU_ULT_INTERCEPT,
     P_TAU_ULT_SLOPE,
     P_TEN,
+    P_V_M,
+    PATH,
     PRESCRIBED,
     PVX,
     PVY,
@@ -110,6 +118,8 @@ from bbmc.dem.layout import (
     STRENGTH_BARTON_BANDIS,
     STRENGTH_CONSTANT,
     STRENGTH_LAW,
+    STRENGTH_MOBILIZED,
+    TAN_DILATION,
     TANPHI,
     TAU,
     TEN,
@@ -131,6 +141,12 @@ from bbmc.dem.layout import (
     Y,
 )
 from bbmc.dem.water import add_water_loads
+from bbmc.laws.mobilized import (
+    bandis_normal_stiffness,
+    damage_coefficient,
+    mobilized_dilation_angle,
+    mobilized_friction_angle,
+)
 from bbmc.laws.stiffness import (
     bandis_shear_stiffness,
     corrected_shear_stiffness,
@@ -179,7 +195,15 @@ def _open(subs, s):
 @numba.njit(cache=True)
 def _sub_contact_law(subs, s, un, dus, after_slip, divisor):
     """Incremental force-displacement law of one sub-contact (module docstring), in place; its shear and
-    tensile strengths divided by `divisor` (strength reduction; 1 otherwise)."""
+    tensile strengths divided by `divisor` (strength reduction; 1 otherwise). While it carries normal
+    stress it accumulates its shear path |d u_s| and its dilation tan(d_mob) |d u_s|: the asperities
+    ride up, so the law sees the geometric overlap u_n plus the dilation so far (0 for laws without
+    dilation). Under a constant normal load the blocks move apart by the dilation; held apart (constant
+    normal stiffness) the joint's sigma_n rises by K_n per unit of dilation."""
+    if subs[s, SN] > 0.0:
+        subs[s, PATH] += abs(dus)
+        subs[s, DILATION] += subs[s, TAN_DILATION] * abs(dus)
+    un += subs[s, DILATION]
     bonded = subs[s, TEN] > 0.0
     if bonded:
         sn = subs[s, SN] + subs[s, KN] * (un - subs[s, UN])
@@ -456,11 +480,24 @@ def _shear_stiffness(law, sigma, tau, p):
 
 
 @numba.njit(cache=True)
+def _mobilize(subs, s, sigma, floored, p):
+    """The mobilized Barton-Bandis law at the sub-contact's sigma_n and shear path (Barton 1982): the
+    secant tan(phi_mob) (c = 0: the strength sigma_n tan(phi_mob) is exact at this sigma_n and path) and
+    the dilation angle's tangent, at the stress floor for an open joint (lg(JCS/sigma_n) has no limit)."""
+    path, jrc, jcs, phi_r, peak = subs[s, PATH], p[P_JRC], p[P_JCS], p[P_PHI_B], p[P_PEAK_DISPLACEMENT]
+    subs[s, TANPHI] = math.tan(mobilized_friction_angle(path, sigma, jrc, jcs, phi_r, peak, p[P_PHI_MAX]))
+    subs[s, COH] = 0.0
+    damage = p[P_DAMAGE] if p[P_DAMAGE] > 0.0 else damage_coefficient(floored, jrc, jcs)
+    subs[s, TAN_DILATION] = math.tan(mobilized_dilation_angle(path, floored, jrc, jcs, phi_r, peak, damage))
+
+
+@numba.njit(cache=True)
 def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
     """Re-evaluate K_n, K_s, c and phi of every sub-contact of a stress-dependent joint type.
 
-    `changed_only`: skip a sub-contact whose sigma_n and tau are those of its last evaluation (an open
-    one stays at 0, 0) and that has not slipped or failed since: the laws would give the same values.
+    `changed_only`: skip a sub-contact whose sigma_n, tau and shear path are those of its last
+    evaluation (an open one stays at 0, 0) and that has not slipped or failed since: the laws would give
+    the same values.
 
     Stiffness laws are evaluated at max(sigma_n, stress floor), so an open or barely closed joint keeps
     a usable stiffness (the laws give 0 at sigma_n = 0, and a joint with K_n = 0 could never close);
@@ -472,16 +509,26 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
         p = params[j]
         for s in range(c * n_sub, (c + 1) * n_sub):
             sigma = subs[s, SN]
-            if changed_only and sigma == subs[s, LAW_SN] and subs[s, TAU] == subs[s, LAW_TAU]:
+            if (
+                changed_only
+                and sigma == subs[s, LAW_SN]
+                and subs[s, TAU] == subs[s, LAW_TAU]
+                and subs[s, PATH] == subs[s, LAW_PATH]
+            ):
                 continue
             subs[s, LAW_SN] = sigma
             subs[s, LAW_TAU] = subs[s, TAU]
+            subs[s, LAW_PATH] = subs[s, PATH]
             floored = max(sigma, p[P_STRESS_FLOOR])
             if laws[j, NORMAL_LAW] == NORMAL_EQ8:
                 subs[s, KN] = normal_stiffness(floored, p[P_Q], p[P_LG_E])
+            elif laws[j, NORMAL_LAW] == NORMAL_BANDIS:
+                subs[s, KN] = bandis_normal_stiffness(floored, p[P_K_NI], p[P_V_M])
             if laws[j, SHEAR_LAW] != SHEAR_CONSTANT:
                 subs[s, KS] = _shear_stiffness(laws[j, SHEAR_LAW], floored, abs(subs[s, TAU]), p)
-            if laws[j, STRENGTH_LAW] == STRENGTH_BARTON_BANDIS:
+            if laws[j, STRENGTH_LAW] == STRENGTH_MOBILIZED:
+                _mobilize(subs, s, sigma, floored, p)
+            elif laws[j, STRENGTH_LAW] == STRENGTH_BARTON_BANDIS:
                 args = (sigma, p[P_JRC], p[P_JCS], p[P_PHI_B], p[P_PHI_MAX], p[P_K_TANGENT])
                 subs[s, TANPHI] = math.tan(equivalent_friction_angle(*args))
                 cohesion = equivalent_cohesion(*args)
@@ -494,7 +541,8 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
 def stresses_moved(contacts, subs, n_sub, laws, params, change):
     """True once a sub-contact of a stress-dependent joint type has a sigma_n or tau that differs from
     the one its laws were last evaluated at by more than `change` times the larger of that value and
-    the type's stress floor (so an update is due before the interval is up)."""
+    the type's stress floor, or (mobilized law) a shear path longer by `change` x delta_peak (so an
+    update is due before the interval is up)."""
     for c in range(contacts.shape[0]):
         j = contacts[c, JOINT_TYPE]
         if (
@@ -504,7 +552,10 @@ def stresses_moved(contacts, subs, n_sub, laws, params, change):
         ):
             continue
         floor = params[j, P_STRESS_FLOOR]
+        peak = params[j, P_PEAK_DISPLACEMENT]
         for s in range(c * n_sub, (c + 1) * n_sub):
+            if peak > 0.0 and subs[s, PATH] - subs[s, LAW_PATH] > change * peak:
+                return True
             if abs(subs[s, SN] - subs[s, LAW_SN]) > change * max(abs(subs[s, LAW_SN]), floor):
                 return True
             if abs(subs[s, TAU] - subs[s, LAW_TAU]) > change * max(abs(subs[s, LAW_TAU]), floor):

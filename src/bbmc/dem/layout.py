@@ -43,7 +43,11 @@ LAW_SN, LAW_TAU = (
     13,
     14,
 )  # the stresses the joint laws were last evaluated at (nan: evaluate at the next update)
-SUB_COLUMNS = 15
+PATH = 15  # shear displacement path length while closed, sum of |d u_s| [m] (damage never heals)
+DILATION = 16  # normal opening by dilation so far [m]; the law's closure is u_n + DILATION
+TAN_DILATION = 17  # tan of the mobilized dilation angle at the last law update [1]
+LAW_PATH = 18  # PATH when the joint laws were last evaluated [m]
+SUB_COLUMNS = 19
 
 # corners are rounded over this fraction of the smaller block's size: within it of each other, two
 # corners in contact turn the normal gradually from one face's to the other's (`kernels.contact_frame`)
@@ -53,7 +57,8 @@ CORNER_ROUNDING = 0.01
 STRENGTH_LAW, NORMAL_LAW, SHEAR_LAW, AFTER_SLIP = 0, 1, 2, 3
 LAW_COLUMNS = 4
 STRENGTH_CONSTANT, STRENGTH_BARTON_BANDIS = 0, 1  # M-C c, phi given | tangent to the B-B envelope (eq 15)
-NORMAL_CONSTANT, NORMAL_EQ8 = 0, 1  # K_n given | K_n = q sigma_n / lg e (eqs 5-8)
+STRENGTH_MOBILIZED = 2  # secant of the B-B strength mobilized at the sub-contact's shear path (Barton 1982)
+NORMAL_CONSTANT, NORMAL_EQ8, NORMAL_BANDIS = 0, 1, 2  # K_n given | eqs 5-8 | Bandis et al. 1983's hyperbola
 SHEAR_CONSTANT, SHEAR_BANDIS, SHEAR_CORRECTED, SHEAR_SIMPLIFIED, SHEAR_HYPERBOLIC = 0, 1, 2, 3, 4
 AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = 0, 1  # cohesion and tensile strength after slip: 0 (Itasca) | kept
 
@@ -83,8 +88,15 @@ AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = 0, 1  # cohesion and tensile strength after s
     P_STRESS_FLOOR,
     P_SHEAR_FLOOR,
     P_STRENGTH_DIVISOR,
-) = range(25)
-PARAMETERS = 25
+    P_PEAK_DISPLACEMENT,
+    P_DAMAGE,
+    P_K_NI,
+    P_V_M,
+) = range(29)
+PARAMETERS = 29
+# mobilized B-B (STRENGTH_MOBILIZED): P_JRC, P_JCS are the scaled JRC_n, JCS_n, P_PHI_B holds phi_r,
+# P_PEAK_DISPLACEMENT delta_peak [m], P_DAMAGE the dilation's M (0: Barton, Bandis & Bakhtar's M(sigma_n));
+# NORMAL_BANDIS: P_K_NI [Pa/m] and P_V_M [m], the closure hyperbola's initial stiffness and maximum closure
 # P_STRENGTH_DIVISOR: strength reduction (`bbmc fos`): a sub-contact's shear strength c + sigma_n tan(phi)
 # and its tensile strength are divided by it; 1 for every scene that `bbmc run` runs
 

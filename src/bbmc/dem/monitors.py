@@ -33,6 +33,8 @@ UNITS = {
     "friction": ("deg", 1.0),
     "us": ("mm", 1 / units.mm),
     "un": ("mm", 1 / units.mm),
+    "dilation": ("mm", 1 / units.mm),
+    "shear_path": ("mm", 1 / units.mm),
     "kinetic_energy": ("J", 1.0),
     "strain_energy": ("J", 1.0),
     "potential_energy": ("J", 1.0),
@@ -46,6 +48,8 @@ SUB_COLUMN = {
     "cohesion": L.COH,
     "us": L.US,
     "un": L.UN,
+    "dilation": L.DILATION,
+    "shear_path": L.PATH,
 }
 FRICTION = -1  # joint_values' code for the friction angle, read from tan(phi)
 
@@ -264,6 +268,8 @@ def contact_table(model: Model, contacts: np.ndarray, subs: np.ndarray, n_sub: i
             "tensile_strength_MPa": subs[:, L.TEN] / units.MPa,
             "us_mm": subs[:, L.US] / units.mm,
             "un_mm": subs[:, L.UN] / units.mm,
+            "shear_path_mm": subs[:, L.PATH] / units.mm,
+            "dilation_mm": subs[:, L.DILATION] / units.mm,
             "slipped": subs[:, L.SLIPPED].astype(bool),
         }
     )

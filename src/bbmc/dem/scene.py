@@ -190,7 +190,46 @@ class BartonBandisLaw(Section):
     after_slip: AfterSlip = "zero"
 
 
-JointLaw = Annotated[ConstantLaw | BartonBandisLaw, Field(discriminator="law")]
+class BandisNormal(Section):
+    """K_n from Bandis et al. (1983)'s closure hyperbola, its K_ni and V_m from JRC_0, JCS_0 and the
+    initial aperture (given, or from the rock's sigma_c: a_j = JRC_0/5 (0.2 sigma_c/JCS_0 - 0.1))."""
+
+    law: Literal["bandis"]
+    aperture_mm: Positive | None = None
+    sigma_c_MPa: Positive | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self) -> BandisNormal:
+        _exactly_one(self, ("aperture_mm", "sigma_c_MPa"), "initial aperture source")
+        return self
+
+
+class MobilizedLaw(Section):
+    """The full Barton-Bandis joint (Barton 1982; Barton & Bandis 1982; Bandis et al. 1983; Barton,
+    Bandis & Bakhtar 1985): strength and dilation mobilized along each sub-contact's shear path, from
+    zero through the peak to the residual; JRC and JCS scaled from the lab length to the field length."""
+
+    law: Literal["barton_bandis_mobilized"]
+    jrc0: Annotated[float, Field(ge=0, le=20)]
+    jcs0_MPa: Positive
+    phi_b_deg: Annotated[float, Field(gt=0, lt=90)]
+    phi_r_deg: Annotated[float, Field(gt=0, lt=90)] | None = None  # or from rebound_ratio
+    rebound_ratio: Annotated[float, Field(gt=0, le=1)] | None = None  # r/R: phi_r = phi_b - 20 + 20 r/R
+    lab_length_m: Positive = 0.1  # L_0
+    field_length_m: Positive | None = None  # L_n [default: lab_length_m, no scale effect]
+    phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
+    damage: Literal["barton_1985"] | Positive = "barton_1985"  # M of d_mob = JRC_mob lg(JCS/sigma_n) / M
+    normal_stiffness: ConstantNormal | BandisNormal = Field(discriminator="law")
+    shear_stiffness: ConstantShear
+    stress_floor_MPa: Positive = 0.01  # the stiffness and the dilation are evaluated at >= this
+
+    @model_validator(mode="after")
+    def _residual(self) -> MobilizedLaw:
+        _exactly_one(self, ("phi_r_deg", "rebound_ratio"), "residual friction source")
+        return self
+
+
+JointLaw = Annotated[ConstantLaw | BartonBandisLaw | MobilizedLaw, Field(discriminator="law")]
 
 
 class ContactRule(Section):
@@ -276,11 +315,13 @@ class Solver(Section):
 
 
 BLOCK_QUANTITIES = ("ux", "uy", "vx", "vy", "rotation")
-JOINT_QUANTITIES = ("sigma_n", "tau", "kn", "ks", "cohesion", "friction", "us", "un")
+JOINT_QUANTITIES = (
+    "sigma_n", "tau", "kn", "ks", "cohesion", "friction", "us", "un", "dilation", "shear_path",
+)  # fmt: skip
 GLOBAL_QUANTITIES = ("kinetic_energy", "strain_energy", "potential_energy", "unbalanced_force_ratio")
 Quantity = Literal[
     "ux", "uy", "vx", "vy", "rotation",
-    "sigma_n", "tau", "kn", "ks", "cohesion", "friction", "us", "un",
+    "sigma_n", "tau", "kn", "ks", "cohesion", "friction", "us", "un", "dilation", "shear_path",
     "kinetic_energy", "strain_energy", "potential_energy", "unbalanced_force_ratio",
 ]  # fmt: skip
 
