@@ -23,6 +23,7 @@ from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
 from bbmc.stages import fos as fos_stage
+from bbmc.stages import joint as joint_stage
 from bbmc.stages import mc as mc_stage
 from bbmc.stages import run as run_stage
 from bbmc.stages import shear as shear_stage
@@ -154,6 +155,15 @@ STAGE_HELP = {
     writes results/mc/mc_grid.csv, table3_mc.csv, tangent_lines.csv, stiffness_curves.csv,
     envelope.png, phi_c.png, stiffness_laws.png, provenance.json
     """,
+    joint_stage: """A joint's behaviour from its Barton-Bandis parameters, at lab and field scale: scale
+    effects, peak and residual envelopes with tangent phi and c, tau-delta and dilation curves, closure.
+
+    \b
+    Example:
+      bbmc joint --config configs/joint.yaml
+    writes results/joint/scale.csv, envelopes.csv, shear_curves.csv, closure.csv, envelopes.png,
+    shear_curves.png, mobilization.png, closure.png, provenance.json
+    """,
     audit_stage: """Recompute and judge every derivable number of the paper (docs/paper-audit.md).
 
     \b
@@ -258,6 +268,7 @@ def bench_command(config: str | None, results: str) -> None:
     piece of work the engine leaves out), scaling.csv (time per step and peak memory, 100 to 100,000
     blocks), engine_cost.csv (time per step against an earlier commit), fos_cost.csv (each
     verification factor of safety: error, trials, wall time, and its change with one solver setting),
+    mobilized_cost.csv (the full Barton-Bandis law's update cost and update schedules),
     laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios.
     """

@@ -11,6 +11,8 @@ engine_cost.csv: time per step of this engine against an earlier commit's on the
 shear box, in alternating fresh processes (`bbmc.bench.engine_cost`).
 fos_cost.csv: trials, steps and wall time of each factor of safety the verification runs, and how far
 it moves with one solver setting changed at a time (`bbmc.bench.fos_cost`).
+mobilized_cost.csv: the full Barton-Bandis law's cost per sub-contact update against the peak-only
+law's, and its error against update interval and stress-change trigger (`bbmc.bench.mobilized_cost`).
 
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
@@ -36,6 +38,7 @@ from bbmc.bench import tradeoff as to
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.fos_cost import fos_cost_table
+from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.scaling import scaling_figure, scaling_table
 from bbmc.config import InputFile, Section
@@ -112,6 +115,16 @@ class FosCost(Section):
     variants: dict[str, dict] = Field(min_length=1)
 
 
+class MobilizedCost(Section):
+    """The full B-B law's cost per law update against the peak-only law's, and its update schedules'
+    trade on a shear box (`bbmc.bench.mobilized_cost`)."""
+
+    sub_contacts: int = Field(ge=1000, le=10_000_000)
+    repeats: Repeats
+    update_intervals: list[Annotated[int, Field(ge=1)]] = Field(min_length=1)
+    stress_changes: list[Annotated[float, Field(gt=0)]] = Field(default_factory=list)
+
+
 class Config(Section):
     shear_config: InputFile  # the paper's scenes, exactly as bbmc shear and bbmc slope build them
     slope_config: InputFile
@@ -120,6 +133,7 @@ class Config(Section):
     scaling: Scaling
     engine_cost: EngineCost
     fos: FosCost
+    mobilized: MobilizedCost
     laws: Laws
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
@@ -222,6 +236,10 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
         e.commit, e.block_counts, e.steps, e.repeats, config.slope_config, config.shear_config, progress
     )
     fos = fos_cost_table(config.slope_config, config.fos.variants, progress)
+    m = config.mobilized
+    mobilized = mobilized_cost_table(
+        m.sub_contacts, m.repeats, m.update_intervals, m.stress_changes, progress
+    )
     progress("joint laws' throughput")
     return StageResult(
         tables={
@@ -232,6 +250,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "scaling": growth,
             "engine_cost": cost,
             "fos_cost": fos,
+            "mobilized_cost": mobilized,
             "laws": law_table(config.laws),
         },
         figures={
