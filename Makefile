@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: reproduce test test-slow bench lint fit mc audit shear slope fos clean
+.PHONY: reproduce test test-slow bench lint fit mc audit shear slope fos joint clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-reproduce: fit mc audit shear slope fos
+reproduce: fit mc audit shear slope fos joint
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -31,6 +31,9 @@ slope: $(STAMP)
 
 fos: $(STAMP)
 	$(BIN)/bbmc fos --config configs/scenes/planar_crack.yaml
+
+joint: $(STAMP)
+	$(BIN)/bbmc joint --config configs/joint.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q
