@@ -13,6 +13,7 @@ import pytest
 from scipy.integrate import quad, solve_ivp
 
 from bbmc import laws
+from bbmc.bench.mobilized_cost import shear_box
 from bbmc.dem import layout as L
 from bbmc.dem.model import build_model
 from bbmc.dem.scene import Scene
@@ -36,49 +37,9 @@ LAW = {
 
 
 def _box(law: dict, steps: int, velocity: dict | None, sigma_n: float = SIGMA_N, ramp: int = 2000) -> dict:
-    """A 0.1 m long upper block on a fixed 0.2 m lower block; sigma_n on its top edge, ramped on over
-    `ramp` steps; `velocity` of the upper block (its rotation held)."""
-    upper = {
-        "name": "upper",
-        "material": "rock",
-        "rectangle_m": {"x_m": 0.0, "y_m": 0.0, "width_m": LENGTH, "height_m": 0.05},
-        "fix": ["rotation"],
-    }
-    if velocity is not None:
-        upper["velocity"] = velocity
-    return {
-        "name": "box",
-        "gravity_m_s2": [0.0, 0.0],
-        "materials": {"rock": {"density_kg_m3": 2500.0}},
-        "blocks": [
-            {
-                "name": "lower",
-                "material": "rock",
-                "rectangle_m": {"x_m": -0.05, "y_m": -0.05, "width_m": 0.2, "height_m": 0.05},
-                "fix": ["x", "y", "rotation"],
-            },
-            upper,
-        ],
-        "joint_laws": {"joint": law},
-        "contacts": {"default_law": "joint"},
-        "loads": {
-            "edge_stresses": [
-                {"block": "upper", "edge": "up", "sigma_n_MPa": sigma_n / 1e6, "ramp_steps": ramp}
-            ]
-        },
-        "solver": {"steps": steps, "update_interval_steps": 1, "time_step": {"step_s": 1e-4}},
-        "monitoring": {
-            "every_steps": 100,
-            "monitors": [
-                {"name": "ux", "block": "upper", "quantity": "ux"},
-                {"name": "uy", "block": "upper", "quantity": "uy"},
-                {"name": "tau", "between": ["upper", "lower"], "quantity": "tau"},
-                {"name": "sn", "between": ["upper", "lower"], "quantity": "sigma_n"},
-                {"name": "path", "between": ["upper", "lower"], "quantity": "shear_path"},
-                {"name": "dil", "between": ["upper", "lower"], "quantity": "dilation"},
-            ],
-        },
-    }
+    """The bench's shear box (`bbmc.bench.mobilized_cost.shear_box`) run for `steps` steps."""
+    scene = shear_box(law, velocity, sigma_n, ramp)
+    return {**scene, "solver": {**scene["solver"], "steps": steps}}
 
 
 def _model(scene: dict):

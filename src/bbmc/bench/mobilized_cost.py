@@ -46,9 +46,19 @@ PEAK_ONLY = {
 CONSTANT = {"law": "constant", "kn_MPa_per_mm": 100, "ks_MPa_per_mm": 100, "friction_deg": 35.0}
 
 
-def shear_box(law: dict, update_interval: int, stress_change: float | None) -> dict:
-    """A 0.1 m specimen under 1 MPa held constant, sheared at 0.02 m/s to 8.2 delta_peak."""
-    peak = float(laws.peak_shear_displacement(LENGTH, JRC))
+def shear_box(law: dict, velocity: dict | None, sigma_n: float = SIGMA_N, ramp: int = 2000) -> dict:
+    """A 0.1 m upper block on a fixed 0.2 m lower one (its rotation held); sigma_n [Pa] on its top edge,
+    ramped on over `ramp` steps; `velocity` of the upper block (a scene `velocity` entry); the law
+    updated every step, the time step automatic below 1e-4 s; monitors of the upper block's ux, uy and
+    of the joint's tau, sigma_n, shear path and dilation every 100 steps. No stop: set one."""
+    upper = {
+        "name": "upper",
+        "material": "rock",
+        "rectangle_m": {"x_m": 0.0, "y_m": 0.0, "width_m": LENGTH, "height_m": 0.05},
+        "fix": ["rotation"],
+        **({"velocity": velocity} if velocity is not None else {}),
+    }
+    joint = [("tau", "tau"), ("sn", "sigma_n"), ("path", "shear_path"), ("dil", "dilation")]
     return {
         "name": "mobilized_box",
         "gravity_m_s2": [0.0, 0.0],
@@ -60,34 +70,37 @@ def shear_box(law: dict, update_interval: int, stress_change: float | None) -> d
                 "rectangle_m": {"x_m": -0.05, "y_m": -0.05, "width_m": 0.2, "height_m": 0.05},
                 "fix": ["x", "y", "rotation"],
             },
-            {
-                "name": "upper",
-                "material": "rock",
-                "rectangle_m": {"x_m": 0.0, "y_m": 0.0, "width_m": LENGTH, "height_m": 0.05},
-                "fix": ["rotation"],
-                "velocity": {"x_m_s": SPEED, "start_step": 2000},
-            },
+            upper,
         ],
         "joint_laws": {"joint": law},
         "contacts": {"default_law": "joint"},
         "loads": {
-            "edge_stresses": [{"block": "upper", "edge": "up", "sigma_n_MPa": 1.0, "ramp_steps": 2000}]
+            "edge_stresses": [
+                {"block": "upper", "edge": "up", "sigma_n_MPa": sigma_n / units.MPa, "ramp_steps": ramp}
+            ]
         },
-        "solver": {
-            "steps": 10**7,
-            "update_interval_steps": update_interval,
-            "law_update_stress_change": stress_change,
-            "time_step": {"step_s": 1e-4},
-            "stop": {"displacement_m": 8.2 * peak},
-        },
+        "solver": {"steps": 10**7, "update_interval_steps": 1, "time_step": {"step_s": 1e-4}},
         "monitoring": {
             "every_steps": 100,
             "monitors": [
-                {"name": "tau", "between": ["upper", "lower"], "quantity": "tau"},
-                {"name": "path", "between": ["upper", "lower"], "quantity": "shear_path"},
+                {"name": "ux", "block": "upper", "quantity": "ux"},
+                {"name": "uy", "block": "upper", "quantity": "uy"},
+                *({"name": n, "between": ["upper", "lower"], "quantity": q} for n, q in joint),
             ],
         },
     }
+
+
+def sheared_to(scene: dict, peaks: float, update_interval: int, stress_change: float | None) -> dict:
+    """`scene` sheared to `peaks` x delta_peak, its law updated on the given schedule."""
+    peak = float(laws.peak_shear_displacement(LENGTH, JRC))
+    solver = {
+        **scene["solver"],
+        "update_interval_steps": update_interval,
+        "law_update_stress_change": stress_change,
+        "stop": {"displacement_m": peaks * peak},
+    }
+    return {**scene, "solver": solver}
 
 
 def _model(scene: dict) -> Model:
@@ -96,7 +109,7 @@ def _model(scene: dict) -> Model:
 
 def update_cost(sub_contacts: int, repeats: int) -> pd.DataFrame:
     """Seconds per sub-contact update of each law on the same random stresses and shear paths."""
-    scene = shear_box(MOBILIZED, 1, None)
+    scene = shear_box(MOBILIZED, None)
     scene["joint_laws"] = {"mobilized": MOBILIZED, "peak_only": PEAK_ONLY, "constant": CONSTANT}
     scene["contacts"] = {"default_law": "mobilized"}
     model = _model(scene)
@@ -133,7 +146,9 @@ def trade(intervals: list[int], stress_changes: list[float], progress: Callable[
     rows = []
     for interval, change in schedules:
         progress(f"mobilized law: update every {interval} steps, stress change {change}")
-        model = _model(shear_box(MOBILIZED, interval, change))
+        model = _model(
+            sheared_to(shear_box(MOBILIZED, {"x_m_s": SPEED, "start_step": 2000}), 8.2, interval, change)
+        )
         start = time.perf_counter()
         h = simulate(model).history
         seconds = time.perf_counter() - start
