@@ -201,3 +201,20 @@ def test_the_paper_slopes_fs_by_strength_reduction_is_near_planar_limit_equilibr
     )
     assert reduced["constant"] < 0.85 * planar["constant", "Table 4's c on the whole plane"]
     assert reduced["barton_bandis"] == pytest.approx(planar["barton_bandis"].iloc[0], rel=0.02)
+
+
+def test_the_slope_with_residual_strength_moves_further_and_is_less_safe():
+    """configs/slope.yaml's `residual`: the full Barton-Bandis joint (phi_r = phi_b and 25 deg) against
+    the peak-only joint, the same stiffnesses: it slips further to mobilize its strength (measured 4.8
+    and 6.9 mm against 0.04 mm in 3 s) and its FS is lower (1.95 and 1.43 against 2.04), but not below
+    the residual bound tan phi_r / tan 20 deg (1.28 for 25 deg): the trials do not slip to 100 delta_peak."""
+    config = load_config(ROOT / "configs" / "slope.yaml", SlopeConfig)
+    table = safety.residual_comparison(config, load_table4(config.data)).set_index("joint")
+    peak, fresh, weathered = (table.iloc[k] for k in range(3))
+    assert (
+        peak["largest_displacement_mm"]
+        < fresh["largest_displacement_mm"]
+        < weathered["largest_displacement_mm"]
+    )
+    assert peak["factor_of_safety"] > fresh["factor_of_safety"] > weathered["factor_of_safety"]
+    assert weathered["factor_of_safety"] >= math.tan(25 * DEG) / math.tan(20 * DEG)

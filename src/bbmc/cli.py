@@ -286,7 +286,8 @@ def slope_command(config: str | None, results: str) -> None:
     writes results/slope/claims.csv (each claim of section 5.2, measured in both runs),
     fig7_blocks.csv, fig8_vectors.csv, fig9_joints.csv, fig10_displacements.csv, fig10_fits.csv,
     fs_vs_dip.csv, critical_dip.csv, dip_sensitivity.csv, factor_of_safety.csv (strength reduction
-    and planar limit equilibrium, both models), fig7.png ... fig10.png, fs_vs_dip.png,
+    and planar limit equilibrium, both models), residual_strength.csv (the full B-B joint against the
+    peak-only one), fig7.png ... fig10.png, fs_vs_dip.png,
     dip_sensitivity.png, fos_constant.png, fos_barton_bandis.png (mechanisms), animation.gif,
     provenance.json
     """

@@ -159,6 +159,41 @@ def joint_law(
     }
 
 
+class FullJoint(Section):
+    """The full Barton-Bandis joint (`law: barton_bandis_mobilized`) beside the paper's in the
+    constant-velocity tests: the paper's JRC, JCS and phi_b at the specimen's length; phi_r (the paper
+    gives no r/R); K_n and K_s constant at each test's sigma_n, from eq 8 and K_si (eq 2's initial
+    stiffness)."""
+
+    phi_r_deg: Annotated[float, Field(gt=0, lt=90)]
+    damage: Literal["barton_1985"] | Positive = "barton_1985"
+    update_interval_steps: Annotated[int, Field(ge=1)] = 5
+
+
+def mobilized_joint_law(
+    joint: jm.StrengthParameters,
+    full: FullJoint,
+    p: jm.StiffnessParameters,
+    specimen: Specimen,
+    sigma_n: float,
+) -> dict:
+    """A barton_bandis_mobilized joint-law entry for one test at sigma_n [Pa], in the scene's units."""
+    k_n = float(laws.normal_stiffness(sigma_n, p.q, p.log10_e))
+    k_s = float(laws.initial_shear_stiffness(sigma_n, p.k_j, p.n_j, jm.SIGMA_REF))
+    return {
+        "law": "barton_bandis_mobilized",
+        "jrc0": joint.jrc,
+        "jcs0_MPa": joint.jcs / units.MPa,
+        "phi_b_deg": joint.phi_b / units.deg,
+        "phi_r_deg": full.phi_r_deg,
+        "lab_length_m": specimen.length_mm * units.mm,
+        "phi_max_deg": joint.phi_max / units.deg,
+        "damage": full.damage,
+        "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": k_n / units.MPa_per_mm},
+        "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": k_s / units.MPa_per_mm},
+    }
+
+
 def _scene(
     name: str,
     specimen: Specimen,

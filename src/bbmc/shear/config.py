@@ -44,6 +44,7 @@ class Config(Section):
     joint_options: box.JointOptions
     stress_controlled: box.StressControlled
     constant_velocity: box.ConstantVelocity
+    full_joint: box.FullJoint
     calibration: CalibrationSettings
     fig2a_units: pi.Fig2aUnits
     quick: Quick

@@ -17,6 +17,7 @@ LAW_STYLE = {
     "corrected": ("tab:blue", "N-C ours (eq 16)"),
     "simplified": ("tab:green", "N-S ours (eq 17, D K_si)"),
 }
+FULL_STYLE = ("tab:orange", "full B-B joint (mobilized; phi_r = phi_b)")
 PAPER_STYLE = {
     "d_h_test_mm": ("black", "T: test (paper)"),
     "d_h_paper_uncorrected_mm": ("salmon", "N-U paper"),
@@ -100,7 +101,7 @@ def fig6(
                 ]
                 if len(t):
                     ax.plot(t["d_h_mm"], t["tau_MPa"], style, color=colour, label=label)
-            for law, (colour, label) in LAW_STYLE.items():
+            for law, (colour, label) in {**LAW_STYLE, "full": FULL_STYLE}.items():
                 c = curves[(curves["law"] == law) & np.isclose(curves["sigma_n_applied_MPa"], sigma)]
                 c = c[c["d_h_mm"] > 0] if scale == "log" else c
                 ax.plot(c["d_h_mm"], c["tau_MPa"], "-", color=colour, label=label.replace(" ours", ""))

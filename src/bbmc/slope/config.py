@@ -50,6 +50,16 @@ class FactorOfSafety(StrengthReduction):
     max_steps: int = Field(ge=1)
 
 
+class Residual(Section):
+    """The slope with the full Barton-Bandis joint (residual strength after slip) against the peak-only
+    joint (`slope.safety.residual_comparison`); the paper gives no r/R, so phi_r is a list to try."""
+
+    phi_r_deg: list[float] = Field(min_length=1)
+    lab_length_m: float = Field(gt=0)  # Table 4's JRC and JCS are taken at this length
+    field_length_m: float = Field(gt=0)  # the joints' length in the slope
+    update_interval_steps: int = Field(ge=1)
+
+
 class Config(Section):
     data: Inputs
     slope: JointedSlope
@@ -61,6 +71,7 @@ class Config(Section):
     limit_equilibrium: LimitEquilibrium
     sensitivity: Sensitivity
     factor_of_safety: FactorOfSafety
+    residual: Residual
     animation_frames: int = Field(ge=0, le=200)  # 0: no GIF
     figure_dpi: int = Field(ge=50, le=600)
 

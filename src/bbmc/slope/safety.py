@@ -15,15 +15,18 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from bbmc import units
+from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
+from bbmc.dem.solver import simulate
 from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.slope import model as sm
 from bbmc.slope import planar
-from bbmc.slope.config import Config
+from bbmc.slope.config import Config, Residual
 
 G = 9.81  # m/s^2, the scenes' gravity
 
@@ -112,3 +115,72 @@ def factor_of_safety_table(
         )
     table = pd.DataFrame(rows + limit_equilibrium(config, table4))
     return table.astype({"trials": "Int64"}), results
+
+
+def mobilized_law(table4: sm.Table4, residual: Residual, phi_r_deg: float) -> dict:
+    """Table 4's joint as the full Barton-Bandis joint (`law: barton_bandis_mobilized`): its JRC, JCS,
+    phi_b at the lab length, scaled to `residual.field_length_m`, with phi_r and Table 4's constant
+    stiffnesses (the mobilized law has no eq 8 K_n)."""
+    n, c = table4.nonlinear, table4.constant
+    return {
+        "law": "barton_bandis_mobilized",
+        "jrc0": n["JRC"],
+        "jcs0_MPa": n["JCS_MPa"],
+        "phi_b_deg": n["phi_b_deg"],
+        "phi_r_deg": phi_r_deg,
+        "lab_length_m": residual.lab_length_m,
+        "field_length_m": residual.field_length_m,
+        "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": c["K_n_MPa_per_mm"]},
+        "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": c["K_s_MPa_per_mm"]},
+    }
+
+
+def peak_only_law(table4: sm.Table4) -> dict:
+    """Table 4's peak envelope (eq 9, exact tangent) with the same constant stiffnesses."""
+    n, c = table4.nonlinear, table4.constant
+    return {
+        "law": "barton_bandis",
+        "strength": {"jrc": n["JRC"], "jcs_MPa": n["JCS_MPa"], "phi_b_deg": n["phi_b_deg"]},
+        "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": c["K_n_MPa_per_mm"]},
+        "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": c["K_s_MPa_per_mm"]},
+        "after_slip": "keep",
+    }
+
+
+def residual_comparison(config: Config, table4: sm.Table4) -> pd.DataFrame:
+    """The slope with the full joint (residual strength after slip) against the peak-only joint, the
+    same stiffnesses: each one's FS by strength reduction, and the largest displacement of a free
+    block after run.duration_s from the start (the dynamic run of Figs 8-10)."""
+    r = config.residual
+    laws = {"peak_only": peak_only_law(table4)} | {
+        f"mobilized_phi_r_{phi:g}".replace(".", "p"): mobilized_law(table4, r, phi) for phi in r.phi_r_deg
+    }
+    rows = []
+    for name, law in laws.items():
+        scene = sm.slope_scene(f"slope_{name}", config.slope, table4.density_kg_m3, law, config.run, [])
+        scene["solver"]["update_interval_steps"] = r.update_interval_steps
+        model = build_model(Scene.model_validate(scene, strict=False), Path(f"{name}.yaml"))
+        run = simulate(model)
+        free = ~model.immobile
+        moved = np.hypot(*(run.state.blocks[free][:, [L.X, L.Y]] - model.blocks[free][:, [L.X, L.Y]]).T)
+        fos_scene = {
+            **scene,
+            "solver": {**scene["solver"], "steps": config.factor_of_safety.max_steps, "stop": None},
+            "fos": config.factor_of_safety.model_dump(exclude={"max_steps"}),
+        }
+        result = factor_of_safety(
+            build_model(Scene.model_validate(fos_scene, strict=False), Path(f"{name}.yaml"))
+        )
+        rows.append(
+            {
+                "joint": name,
+                "phi_r_deg": law.get("phi_r_deg", math.nan),
+                "largest_displacement_mm": float(moved.max()) / units.mm,
+                "duration_s": float(run.state.clock[L.TIME]),
+                "factor_of_safety": result.factor_of_safety,
+                "last_stable_factor": result.bracket[0],
+                "first_unstable_factor": result.bracket[1],
+                "start": result.start,
+            }
+        )
+    return pd.DataFrame(rows)

@@ -6,7 +6,8 @@ Three parts, all on the shear box of `bbmc.shear.box`:
   simplified (eq 17) shear stiffness; strength from eq 15, K_n from eq 8. Beside each engine d_h is
   the closed form the engine must match, the integral of d tau / K_st(tau) from 0 to the load.
 * Constant-velocity tests (Fig 5) at the four normal stresses with each law: the tau-d_h curves of
-  Fig 6, beside the test curves that `bbmc fit` reconstructs for Fig 1.
+  Fig 6, beside the test curves that `bbmc fit` reconstructs for Fig 1; and with the full
+  displacement-dependent Barton-Bandis joint (`full_joint`: peak, softening, residual, dilation).
 * The calibration of eq 16 (`bbmc.shear.calibration`) on the laboratory d_h of Table 3.
 
 Read from data/paper as inputs: the loads and test d_h of Table 3 (the calibration's targets), the
@@ -156,6 +157,14 @@ def velocity_curves(bench: Bench, stresses: np.ndarray, progress: Callable[[str]
                 f"velocity_{_label(sigma_n, None, kind)}", bench.paper_law(kind, sigma_n), sigma_n
             )
             frames.append(curve.assign(law=kind, sigma_n_applied_MPa=sigma_n / units.MPa))
+        progress(f"constant-velocity full Barton-Bandis joint sigma_n {sigma_n / units.MPa:g} MPa")
+        curve = bench.velocity_test(
+            f"velocity_{_label(sigma_n, None, 'full')}",
+            bench.full_law(sigma_n),
+            sigma_n,
+            bench.config.full_joint.update_interval_steps,
+        )
+        frames.append(curve.assign(law="full", sigma_n_applied_MPa=sigma_n / units.MPa))
     table = pd.concat(frames, ignore_index=True)
     return table[["law", "sigma_n_applied_MPa", "time_s", "d_h_mm", "tau_MPa", "sigma_n_MPa"]]
 

@@ -1,6 +1,7 @@
 """`bbmc slope`: the jointed limestone slope of the paper's section 5 (Table 4, Figs 7-10), both joint
 models, the claims of section 5.2 measured, a limit-equilibrium check, a dip sensitivity study, and
-the slope's factor of safety by strength reduction and by planar limit equilibrium (`slope.safety`).
+the slope's factor of safety by strength reduction and by planar limit equilibrium, and the full
+Barton-Bandis joint with residual strength against the peak-only joint (`slope.safety`).
 
 Read from data/paper as inputs: Table 4 (density, the constant and the nonlinear joint parameters) and
 eq 6's printed lg e (behind Table 4's K_n coefficient). Nothing the paper reports as a result of its
@@ -403,6 +404,8 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     dips = sensitivity(config, table4, progress)
     progress("factor of safety by strength reduction, both models")
     safety_table, reductions = safety.factor_of_safety_table(config, table4)
+    progress("the full Barton-Bandis joint (residual strength) against the peak-only joint")
+    residual = safety.residual_comparison(config, table4)
     snapshots = snapshot_table(runs, config.snapshots)
     joints = joint_histories(runs)
     moves = displacement_histories(runs)
@@ -422,6 +425,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "critical_dip": critical,
             "dip_sensitivity": dips,
             "factor_of_safety": safety_table,
+            "residual_strength": residual,
         },
         figures={
             "fig7": figures.fig7(runs["constant"].model, runs["constant"].numbering, config.slope, dpi),
