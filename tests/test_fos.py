@@ -204,17 +204,21 @@ def test_the_paper_slopes_fs_by_strength_reduction_is_near_planar_limit_equilibr
 
 
 def test_the_slope_with_residual_strength_moves_further_and_is_less_safe():
-    """configs/slope.yaml's `residual`: the full Barton-Bandis joint (phi_r = phi_b and 25 deg) against
-    the peak-only joint, the same stiffnesses: it slips further to mobilize its strength (measured 4.8
-    and 6.9 mm against 0.04 mm in 3 s) and its FS is lower (1.95 and 1.43 against 2.04), but not below
-    the residual bound tan phi_r / tan 20 deg (1.28 for 25 deg): the trials do not slip to 100 delta_peak."""
+    """configs/slope.yaml's `residual`: the full Barton-Bandis joint (phi_r = phi_b and 25 deg, scaled to
+    5 m) against the peak-only joint at lab and at that field scale, the same stiffnesses. It slips
+    further to mobilize its strength (measured 4.9 and 6.9 mm against 0.04 mm in 3 s). Its FS (1.98 and
+    1.40) is below the lab-scale peak-only one (2.04); with phi_r = phi_b it equals the field-scale
+    peak-only one to the bisection's tolerance (1.99: the drop is the scale effect); and it stays above
+    the residual bound tan phi_r / tan 20 deg (1.28 for 25 deg): the trials do not slip to 100
+    delta_peak."""
     config = load_config(ROOT / "configs" / "slope.yaml", SlopeConfig)
     table = safety.residual_comparison(config, load_table4(config.data)).set_index("joint")
-    peak, fresh, weathered = (table.iloc[k] for k in range(3))
+    lab, field, fresh, weathered = (table.iloc[k] for k in range(4))
     assert (
-        peak["largest_displacement_mm"]
+        lab["largest_displacement_mm"]
         < fresh["largest_displacement_mm"]
         < weathered["largest_displacement_mm"]
     )
-    assert peak["factor_of_safety"] > fresh["factor_of_safety"] > weathered["factor_of_safety"]
+    assert lab["factor_of_safety"] > fresh["factor_of_safety"] > weathered["factor_of_safety"]
+    assert fresh["factor_of_safety"] == pytest.approx(field["factor_of_safety"], abs=0.01)
     assert weathered["factor_of_safety"] >= math.tan(25 * DEG) / math.tan(20 * DEG)

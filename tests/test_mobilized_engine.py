@@ -64,55 +64,79 @@ def constant_load():
 
 
 def test_constant_normal_load_follows_the_laws_tau_delta_curve(constant_load):
-    """tau against the sub-contacts' own shear path, from 0.05 delta_peak to 8 delta_peak (peak and
-    softening), within 1 % of the peak strength of the law's tau_mob(delta) at the applied sigma_n."""
+    """tau against the imposed shear displacement (the upper block's ux), from 0.05 delta_peak to 8
+    delta_peak (peak and softening), within 1 % of the peak strength of the law's tau_mob(delta) at the
+    applied sigma_n; the sub-contacts' own path is that displacement (to 0.001 delta_peak; measured:
+    0.5 micrometres apart)."""
     h = constant_load
-    path = h["path_mm"].to_numpy() * 1e-3
-    keep = path > 0.05 * PEAK
+    delta = np.abs(h["ux_mm"].to_numpy()) * 1e-3
+    keep = delta > 0.05 * PEAK
     tau = np.abs(h["tau_MPa"].to_numpy()[keep]) * 1e6
-    expected = _strength(path[keep])
-    assert path.max() > 7.5 * PEAK
+    expected = _strength(delta[keep])
+    assert delta.max() > 7.5 * PEAK
     assert np.max(np.abs(tau - expected)) <= 0.01 * float(_strength(PEAK))
+    np.testing.assert_allclose(h["path_mm"].to_numpy()[keep] * 1e-3, delta[keep], rtol=0, atol=1e-3 * PEAK)
 
 
 def test_constant_normal_load_dilates_as_the_law_integrates(constant_load):
-    """The upper block rises by the integral of tan(d_mob) d delta (the law's curve, integrated by
-    quadrature here) to within 1 % of the final dilation, at every record."""
+    """The upper block rises by the integral of tan(d_mob) d delta over the imposed displacement (the
+    law's curve, integrated by quadrature here) to within 1 % of the final dilation, at every record."""
     h = constant_load
-    path = h["path_mm"].to_numpy() * 1e-3
-    rise = h["uy_mm"].to_numpy() * 1e-3 - h["uy_mm"].iloc[np.argmax(path > 0)] * 1e-3
-    expected = np.array([quad(lambda d: math.tan(_dilation_angle(d)), 0.0, p, limit=200)[0] for p in path])
+    delta = np.abs(h["ux_mm"].to_numpy()) * 1e-3
+    start = int(np.argmax(delta > 0))
+    rise = (h["uy_mm"].to_numpy() - h["uy_mm"].iloc[start]) * 1e-3
+    expected = np.array([quad(lambda d: math.tan(_dilation_angle(d)), 0.0, x, limit=200)[0] for x in delta])
     assert expected[-1] > 0
     assert np.max(np.abs(rise - expected)) <= 0.01 * expected[-1]
 
 
-def test_reversal_does_not_heal_the_damage():
-    """Sheared to 2 delta_peak, then back: the path keeps growing, and the shear stress in the reverse
-    direction never exceeds the strength reached before the reversal (no new peak: the damage does
-    not heal; UDEC's reduced secondary peak)."""
+def _reversed(at_peaks: float, back_peaks: float):
+    """Sheared to `at_peaks` delta_peak, then back by `back_peaks`: (tau, dilation, path) of the first
+    sub-contact just before the reversal, and their histories on the way back, every 0.1 delta_peak."""
     ramp = 2000
     model = _model(_box(LAW, 10**7, {"x_m_s": SPEED, "start_step": ramp}))
     state = prepare(model)
     steps_per_peak = int(PEAK / SPEED / state.clock[L.DT])
-    advance(model, state, ramp + 2 * steps_per_peak)
-    rows = slice(0, state.n_sub)
-    before = float(np.max(np.abs(state.subs[rows, L.TAU])))
-    sign_before = np.sign(np.mean(state.subs[rows, L.TAU]))
-    path_before = float(state.subs[rows, L.PATH].max())
+    advance(model, state, ramp + int(at_peaks * steps_per_peak))
+    before = state.subs[0, [L.TAU, L.DILATION, L.PATH]].copy()
     state.blocks[1, L.VPX] = -SPEED
-    taus = []
-    for _ in range(20):
+    back = []
+    for _ in range(int(10 * back_peaks)):
         advance(model, state, steps_per_peak // 10)
-        taus.append(float(np.max(np.abs(state.subs[rows, L.TAU]))))
-    assert state.subs[rows, L.PATH].max() > path_before + 1.5 * PEAK
-    assert max(taus) <= before * (1 + 1e-9)
-    assert np.sign(np.mean(state.subs[rows, L.TAU])) == -sign_before  # the shear stress has turned round
+        back.append(state.subs[0, [L.TAU, L.DILATION, L.PATH]].copy())
+    return before, np.array(back)
+
+
+def test_reversal_after_the_peak_finds_no_new_peak_and_closes_the_dilation():
+    """Sheared to 2 delta_peak, then back 2 delta_peak: the path keeps growing (damage does not heal),
+    the shear stress turns round and never exceeds the strength reached before the reversal (no new
+    peak: UDEC's reduced secondary peak), and the dilation falls back as the joint returns (to within
+    one recording step of 0 at the start)."""
+    before, back = _reversed(2.0, 2.0)
+    assert back[-1, 2] > before[2] + 1.9 * PEAK
+    assert np.max(np.abs(back[:, 0])) <= abs(before[0]) * (1 + 1e-9)
+    assert np.sign(back[-1, 0]) == -np.sign(before[0])
+    assert np.all(np.diff(back[:, 1]) <= 1e-12)
+    assert back[-1, 1] < 0.1 * before[1]
+
+
+def test_reversal_before_the_peak_goes_on_along_the_path():
+    """Reversed at 0.5 delta_peak: the path goes on growing, so the strength keeps rising along the law's
+    curve to its peak (the documented rule: the path, not the position, mobilizes the roughness) within 1 %
+    of the peak at each record after the stress has turned round."""
+    before, back = _reversed(0.5, 1.0)
+    turned = np.sign(back[:, 0]) == -np.sign(before[0])
+    expected = _strength(back[turned, 2])
+    assert np.max(np.abs(np.abs(back[turned, 0]) - expected)) <= 0.01 * float(_strength(PEAK))
+    assert np.max(np.abs(back[:, 0])) > abs(before[0])
 
 
 def test_constant_normal_stiffness_follows_the_integrated_closed_form():
-    """The upper block held at its height once 1 MPa acts: dilation raises sigma_n by K_n per unit of
-    dilation, d sigma_n / d delta = K_n tan(d_mob(delta, sigma_n)) (integrated here by solve_ivp);
-    sigma_n within 1 % at 3 delta_peak."""
+    """Constant normal stiffness with an infinitely stiff surround: the upper block held at its height
+    once 1 MPa acts, so the system's normal stiffness is the joint's own K_n and dilation raises sigma_n
+    by it, d sigma_n / d delta = K_n tan(d_mob(delta, sigma_n)) (integrated here by solve_ivp);
+    sigma_n within 1 % at 3 delta_peak. (A finite surround k would give k K_n / (k + K_n); the engine has
+    no spring element.)"""
     ramp = 2000
     kn = 100e9
     model = _model(_box(LAW, 10**7, {"x_m_s": SPEED, "start_step": ramp + 1000}))
@@ -147,3 +171,18 @@ def test_closure_under_normal_load_follows_bandis_hyperbola():
     loaded = sigma > 0.2e6
     expected = laws.bandis_closure(sigma[loaded], kni, vm)
     np.testing.assert_allclose(closure[loaded], expected, rtol=0.01)
+
+
+@pytest.mark.parametrize(
+    "change, fragment",
+    [
+        ({"phi_r_deg": 35.0}, "exceeds phi_b_deg"),
+        ({"normal_stiffness": {"law": "bandis", "sigma_c_MPa": 50.0}}, "below jcs0_MPa"),
+        ({"phi_b_deg": 15.0, "phi_r_deg": None, "rebound_ratio": 0.1}, "phi_r"),
+    ],
+)
+def test_meaningless_mobilized_parameters_are_refused(change, fragment):
+    """phi_r above phi_b, a rock weaker than its joint wall, or an r/R that gives phi_r <= 0."""
+    law = {k: v for k, v in {**LAW, **change}.items() if v is not None}
+    with pytest.raises(ValueError, match=fragment):
+        Scene.model_validate(_box(law, 10, None), strict=False)

@@ -3,8 +3,9 @@
 mobilized_cost.csv, two parts:
 
 * `update`: the time of one law update per sub-contact (`kernels.update_joint_laws`, every sub-contact
-  evaluated) for the mobilized law, the paper's peak-only law (eq 15 tangent, eq 8 K_n, eq 17 K_s) and a
-  constant joint, on the same arrays of sub-contacts in one process, best of N; with the ratios.
+  evaluated) for the mobilized law (Bandis K_n), the paper's peak-only law (eq 15 tangent, eq 8 K_n,
+  eq 17 K_s), both again with constant stiffnesses (strength alone, like for like), and a constant
+  joint, on the same arrays of sub-contacts in one process, best of N; with the ratios to the paper's.
 * `trade`: the shear box of `tests/test_mobilized_engine.py` (1 MPa, sheared to 8 delta_peak) at each
   update interval and stress-change trigger of the config: the largest error of tau against the law's
   tau(delta), as a fraction of the peak strength, the steps and the wall time.
@@ -110,7 +111,14 @@ def _model(scene: dict) -> Model:
 def update_cost(sub_contacts: int, repeats: int) -> pd.DataFrame:
     """Seconds per sub-contact update of each law on the same random stresses and shear paths."""
     scene = shear_box(MOBILIZED, None)
-    scene["joint_laws"] = {"mobilized": MOBILIZED, "peak_only": PEAK_ONLY, "constant": CONSTANT}
+    stiff = {"normal_stiffness": {"law": "constant", "kn_MPa_per_mm": 100}}
+    scene["joint_laws"] = {
+        "mobilized": MOBILIZED,
+        "peak_only": PEAK_ONLY,
+        "mobilized_constant_stiffness": MOBILIZED | stiff,
+        "peak_only_constant_stiffness": PEAK_ONLY | stiff | {"shear_stiffness": MOBILIZED["shear_stiffness"]},
+        "constant": CONSTANT,
+    }
     scene["contacts"] = {"default_law": "mobilized"}
     model = _model(scene)
     rng = np.random.default_rng(0)

@@ -196,13 +196,15 @@ def _open(subs, s):
 def _sub_contact_law(subs, s, un, dus, after_slip, divisor):
     """Incremental force-displacement law of one sub-contact (module docstring), in place; its shear and
     tensile strengths divided by `divisor` (strength reduction; 1 otherwise). While it carries normal
-    stress it accumulates its shear path |d u_s| and its dilation tan(d_mob) |d u_s|: the asperities
-    ride up, so the law sees the geometric overlap u_n plus the dilation so far (0 for laws without
-    dilation). Under a constant normal load the blocks move apart by the dilation; held apart (constant
-    normal stiffness) the joint's sigma_n rises by K_n per unit of dilation."""
+    stress it accumulates its shear path |d u_s|, and its dilation tan(d_mob) d|u_s|: the asperities
+    ride up as the joint moves away from where it started and down as it moves back (never below 0),
+    so the law sees the geometric overlap u_n plus the dilation so far (0 for laws without dilation).
+    Under a constant normal load the blocks move apart by it; held at their distance, the joint's
+    sigma_n rises by K_n per unit of dilation."""
     if subs[s, SN] > 0.0:
         subs[s, PATH] += abs(dus)
-        subs[s, DILATION] += subs[s, TAN_DILATION] * abs(dus)
+        away = abs(subs[s, US] + dus) - abs(subs[s, US])
+        subs[s, DILATION] = max(subs[s, DILATION] + subs[s, TAN_DILATION] * away, 0.0)
     un += subs[s, DILATION]
     bonded = subs[s, TEN] > 0.0
     if bonded:
@@ -480,12 +482,13 @@ def _shear_stiffness(law, sigma, tau, p):
 
 
 @numba.njit(cache=True)
-def _mobilize(subs, s, sigma, floored, p):
+def _mobilize(subs, s, floored, p):
     """The mobilized Barton-Bandis law at the sub-contact's sigma_n and shear path (Barton 1982): the
     secant tan(phi_mob) (c = 0: the strength sigma_n tan(phi_mob) is exact at this sigma_n and path) and
-    the dilation angle's tangent, at the stress floor for an open joint (lg(JCS/sigma_n) has no limit)."""
+    the dilation angle's tangent, both at max(sigma_n, stress floor) (an open joint carries no strength
+    whatever its angle; it is the angle it will close with, and lg(JCS/sigma_n) has no limit at 0)."""
     path, jrc, jcs, phi_r, peak = subs[s, PATH], p[P_JRC], p[P_JCS], p[P_PHI_B], p[P_PEAK_DISPLACEMENT]
-    subs[s, TANPHI] = math.tan(mobilized_friction_angle(path, sigma, jrc, jcs, phi_r, peak, p[P_PHI_MAX]))
+    subs[s, TANPHI] = math.tan(mobilized_friction_angle(path, floored, jrc, jcs, phi_r, peak, p[P_PHI_MAX]))
     subs[s, COH] = 0.0
     damage = p[P_DAMAGE] if p[P_DAMAGE] > 0.0 else damage_coefficient(floored, jrc, jcs)
     subs[s, TAN_DILATION] = math.tan(mobilized_dilation_angle(path, floored, jrc, jcs, phi_r, peak, damage))
@@ -495,9 +498,9 @@ def _mobilize(subs, s, sigma, floored, p):
 def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
     """Re-evaluate K_n, K_s, c and phi of every sub-contact of a stress-dependent joint type.
 
-    `changed_only`: skip a sub-contact whose sigma_n, tau and shear path are those of its last
-    evaluation (an open one stays at 0, 0) and that has not slipped or failed since: the laws would give
-    the same values.
+    `changed_only`: skip a sub-contact whose sigma_n, tau and (mobilized law) shear path are those of
+    its last evaluation (an open one stays at 0, 0) and that has not slipped or failed since: the laws
+    would give the same values.
 
     Stiffness laws are evaluated at max(sigma_n, stress floor), so an open or barely closed joint keeps
     a usable stiffness (the laws give 0 at sigma_n = 0, and a joint with K_n = 0 could never close);
@@ -513,7 +516,7 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
                 changed_only
                 and sigma == subs[s, LAW_SN]
                 and subs[s, TAU] == subs[s, LAW_TAU]
-                and subs[s, PATH] == subs[s, LAW_PATH]
+                and (subs[s, PATH] == subs[s, LAW_PATH] or laws[j, STRENGTH_LAW] != STRENGTH_MOBILIZED)
             ):
                 continue
             subs[s, LAW_SN] = sigma
@@ -527,7 +530,7 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
             if laws[j, SHEAR_LAW] != SHEAR_CONSTANT:
                 subs[s, KS] = _shear_stiffness(laws[j, SHEAR_LAW], floored, abs(subs[s, TAU]), p)
             if laws[j, STRENGTH_LAW] == STRENGTH_MOBILIZED:
-                _mobilize(subs, s, sigma, floored, p)
+                _mobilize(subs, s, floored, p)
             elif laws[j, STRENGTH_LAW] == STRENGTH_BARTON_BANDIS:
                 args = (sigma, p[P_JRC], p[P_JCS], p[P_PHI_B], p[P_PHI_MAX], p[P_K_TANGENT])
                 subs[s, TANPHI] = math.tan(equivalent_friction_angle(*args))

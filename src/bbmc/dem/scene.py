@@ -226,6 +226,16 @@ class MobilizedLaw(Section):
     @model_validator(mode="after")
     def _residual(self) -> MobilizedLaw:
         _exactly_one(self, ("phi_r_deg", "rebound_ratio"), "residual friction source")
+        if self.phi_r_deg is not None and self.phi_r_deg > self.phi_b_deg:
+            raise ValueError(f"phi_r_deg ({self.phi_r_deg}) exceeds phi_b_deg ({self.phi_b_deg})")
+        if self.rebound_ratio is not None and self.phi_b_deg - 20.0 * (1.0 - self.rebound_ratio) <= 0.0:
+            raise ValueError("rebound_ratio gives phi_r = phi_b_deg - 20 (1 - r/R) <= 0")
+        sigma_c = getattr(self.normal_stiffness, "sigma_c_MPa", None)
+        if sigma_c is not None and sigma_c < self.jcs0_MPa:
+            raise ValueError(
+                f"normal_stiffness.sigma_c_MPa ({sigma_c}) is below jcs0_MPa ({self.jcs0_MPa}): a joint "
+                "wall is not stronger than its rock (and the aperture fit would fall to its floor)"
+            )
         return self
 
 

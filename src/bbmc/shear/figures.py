@@ -17,7 +17,7 @@ LAW_STYLE = {
     "corrected": ("tab:blue", "N-C ours (eq 16)"),
     "simplified": ("tab:green", "N-S ours (eq 17, D K_si)"),
 }
-FULL_STYLE = ("tab:orange", "full B-B joint (mobilized; phi_r = phi_b)")
+FULL_STYLE = ("tab:orange", "full B-B joint (mobilized, shear.yaml full_joint)")
 PAPER_STYLE = {
     "d_h_test_mm": ("black", "T: test (paper)"),
     "d_h_paper_uncorrected_mm": ("salmon", "N-U paper"),

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from bbmc import units
+from bbmc import laws, units
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
@@ -135,12 +135,20 @@ def mobilized_law(table4: sm.Table4, residual: Residual, phi_r_deg: float) -> di
     }
 
 
-def peak_only_law(table4: sm.Table4) -> dict:
-    """Table 4's peak envelope (eq 9, exact tangent) with the same constant stiffnesses."""
+def peak_only_law(table4: sm.Table4, residual: Residual | None = None) -> dict:
+    """Table 4's peak envelope (eq 9, exact tangent) with the same constant stiffnesses; with
+    `residual`, JRC and JCS scaled from its lab to its field length (as the full joint's)."""
     n, c = table4.nonlinear, table4.constant
+    jrc, jcs = n["JRC"], n["JCS_MPa"]
+    if residual is not None:
+        lab, field = residual.lab_length_m, residual.field_length_m
+        jrc, jcs = (
+            float(laws.scaled_jrc(n["JRC"], lab, field)),
+            float(laws.scaled_jcs(jcs, n["JRC"], lab, field)),
+        )
     return {
         "law": "barton_bandis",
-        "strength": {"jrc": n["JRC"], "jcs_MPa": n["JCS_MPa"], "phi_b_deg": n["phi_b_deg"]},
+        "strength": {"jrc": jrc, "jcs_MPa": jcs, "phi_b_deg": n["phi_b_deg"]},
         "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": c["K_n_MPa_per_mm"]},
         "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": c["K_s_MPa_per_mm"]},
         "after_slip": "keep",
@@ -148,15 +156,16 @@ def peak_only_law(table4: sm.Table4) -> dict:
 
 
 def residual_comparison(config: Config, table4: sm.Table4) -> pd.DataFrame:
-    """The slope with the full joint (residual strength after slip) against the peak-only joint, the
-    same stiffnesses: each one's FS by strength reduction, and the largest displacement of a free
-    block after run.duration_s from the start (the dynamic run of Figs 8-10)."""
+    """The slope with the full joint (residual strength after slip) against the peak-only joint at lab
+    scale and at the field scale the full joint uses (so that the scale effect and the residual strength
+    are told apart), the same stiffnesses: each one's FS by strength reduction, and the largest
+    displacement of a free block after run.duration_s from the start (the dynamic run of Figs 8-10)."""
     r = config.residual
-    laws = {"peak_only": peak_only_law(table4)} | {
+    joints = {"peak_only": peak_only_law(table4), "peak_only_field_scale": peak_only_law(table4, r)} | {
         f"mobilized_phi_r_{phi:g}".replace(".", "p"): mobilized_law(table4, r, phi) for phi in r.phi_r_deg
     }
     rows = []
-    for name, law in laws.items():
+    for name, law in joints.items():
         scene = sm.slope_scene(f"slope_{name}", config.slope, table4.density_kg_m3, law, config.run, [])
         scene["solver"]["update_interval_steps"] = r.update_interval_steps
         model = build_model(Scene.model_validate(scene, strict=False), Path(f"{name}.yaml"))
