@@ -28,6 +28,7 @@ from bbmc.stages import mc as mc_stage
 from bbmc.stages import run as run_stage
 from bbmc.stages import shear as shear_stage
 from bbmc.stages import slope as slope_stage
+from bbmc.stages import sweep as sweep_stage
 
 
 @contextmanager
@@ -252,6 +253,45 @@ def fos_command(config: str | None, results: str) -> None:
         f"{len(outcome.trials)} trials, {time.perf_counter() - started:.1f} s"
     )
     _report_written(fos_stage.NAME, out_dir, written)
+
+
+@main.command(name="sweep")
+@_stage_options
+@click.option(
+    "--scheduler",
+    default=None,
+    help="A dask.distributed scheduler's address (tcp://HOST:PORT) [default: local processes].",
+)
+@click.option(
+    "--workers", type=click.IntRange(min=1), default=None, help="Local processes [default: every core]."
+)
+def sweep_command(config: str | None, results: str, scheduler: str | None, workers: int | None) -> None:
+    """A probabilistic analysis or parameter study: sample the inputs, run every sample, report P_f.
+
+    \b
+    Example:
+      bbmc sweep --config configs/sweeps/planar_block.yaml
+      bbmc sweep --config configs/sweeps/planar_block.yaml --scheduler tcp://127.0.0.1:8786
+    writes results/sweep/<name>/samples.csv, summary.csv (mean and std of FS, P_f with its 95 %
+    interval, reliability indices), sensitivity.csv, fs_distribution.png, tornado.png,
+    provenance.json. Finished batches are kept in results/sweep/<name>.progress/: the same command
+    run again after an interruption runs only the missing samples. Progress and the time left on stderr.
+    """
+    if config is None:
+        raise click.UsageError("give the study with --config SWEEP.yaml")
+    config_path = Path(config)
+    with _reported(sweep_stage.NAME):
+        settings = load_config(config_path, sweep_stage.Config)
+        root = Path(results) / sweep_stage.NAME
+
+        def say(line: str) -> None:
+            click.echo(f"bbmc sweep: {line}", err=True)
+
+        result = sweep_stage.run(settings, config_path, root, scheduler, workers, say)
+        out_dir = root / settings.name
+        record = provenance(sweep_stage.NAME, config_path, settings) | {"scheduler": scheduler}
+        written = write_stage(out_dir, result, record)
+    _report_written(sweep_stage.NAME, out_dir, written)
 
 
 @main.command(name="bench")

@@ -1,0 +1,1 @@
+"""Probabilistic sweeps: sampling designs, failure statistics and their figures for `bbmc sweep`."""

@@ -1,0 +1,152 @@
+"""The config of `bbmc sweep` (SWEEP.yaml): the base model, the variables and their distributions, the
+sampling, and what each sample records. Units are in the key names, as everywhere in bbmc."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from bbmc.config import InputFile, Section
+
+Positive = Annotated[float, Field(gt=0)]
+Angle = Annotated[float, Field(gt=0, lt=90)]
+
+
+class MohrCoulombPlane(Section):
+    """c and phi, the friction given as an angle or as its tangent (tan_friction: a friction
+    coefficient, whose normal distribution makes a cohesionless dry block's FS exactly normal)."""
+
+    law: Literal["mohr_coulomb"]
+    cohesion_kPa: Annotated[float, Field(ge=0)] = 0.0
+    friction_deg: Angle | None = None
+    tan_friction: Positive | None = None
+
+    @model_validator(mode="after")
+    def _one_friction(self) -> MohrCoulombPlane:
+        if (self.friction_deg is None) == (self.tan_friction is None):
+            raise ValueError("give exactly one of friction_deg and tan_friction")
+        return self
+
+
+class BartonBandisPlane(Section):
+    law: Literal["barton_bandis"]
+    jrc: Annotated[float, Field(ge=0, le=20)]
+    jcs_MPa: Positive
+    phi_b_deg: Angle
+    phi_max_deg: Angle = 70.0
+
+
+class Planar(Section):
+    """Hoek & Bray's planar failure with a tension crack (`bbmc.slope.planar`), one sample per set of
+    parameters (the whole batch in one vectorised call)."""
+
+    kind: Literal["planar"]
+    height_m: Positive
+    face_deg: Angle
+    plane_deg: Angle
+    crack_depth_m: Annotated[float, Field(ge=0)] = 0.0  # z: the crack's foot below the crest (0: none)
+    water_fill: Annotated[float, Field(ge=0, le=1)] = 0.0  # z_w / z
+    unit_weight_kN_m3: Positive = 26.0
+    seismic_coefficient: Annotated[float, Field(ge=0, le=1)] = 0.0
+    strength: MohrCoulombPlane | BartonBandisPlane = Field(discriminator="law")
+
+
+class SceneBase(Section):
+    """A block scene (docs/scene-format.md): its factor of safety by strength reduction (`fos`), or a
+    monitor's value at the end of a `bbmc run` (`run`)."""
+
+    kind: Literal["scene_fos", "scene_run"]
+    scene: InputFile
+    monitor: str | None = None  # scene_run: the monitor's column in history.csv (e.g. slider_x_mm)
+
+    @model_validator(mode="after")
+    def _monitor(self) -> SceneBase:
+        if (self.kind == "scene_run") != (self.monitor is not None):
+            raise ValueError("a scene_run base needs `monitor` (a history.csv column); scene_fos takes none")
+        return self
+
+
+class Variable(Section):
+    """A varying input by its dotted path in the base (e.g. strength.friction_deg, or
+    joint_laws.joint.friction_deg in a scene; list entries by their index) and its distribution:
+    normal (mean, std), lognormal (mean, std of the variable), uniform (min, max), triangular (min,
+    mode, max), truncated_normal (mean, std, min, max)."""
+
+    path: Annotated[str, Field(min_length=1)]
+    distribution: Literal["normal", "lognormal", "uniform", "triangular", "truncated_normal"]
+    mean: float | None = None
+    std: float | None = None
+    min: float | None = None
+    max: float | None = None
+    mode: float | None = None
+
+    def parameters(self) -> dict[str, float]:
+        """The distribution's parameters as given (`bbmc.sweep.design.marginal` checks them)."""
+        names = {
+            "normal": ("mean", "std"),
+            "lognormal": ("mean", "std"),
+            "uniform": ("min", "max"),
+            "triangular": ("min", "mode", "max"),
+            "truncated_normal": ("mean", "std", "min", "max"),
+        }[self.distribution]
+        return {name: getattr(self, name) for name in names}
+
+    @model_validator(mode="after")
+    def _given(self) -> Variable:
+        names = {"mean", "std", "min", "max", "mode"}
+        needed = set(self.parameters())
+        missing = sorted(n for n in needed if getattr(self, n) is None)
+        extra = sorted(n for n in names - needed if getattr(self, n) is not None)
+        if missing:
+            raise ValueError(f"a {self.distribution} distribution needs {', '.join(missing)}")
+        if extra:
+            raise ValueError(f"a {self.distribution} distribution takes no {', '.join(extra)}")
+        return self
+
+
+class GridAxis(Section):
+    path: Annotated[str, Field(min_length=1)]
+    values: Annotated[list[float], Field(min_length=1)]
+
+
+class Correlation(Section):
+    between: Annotated[list[str], Field(min_length=2, max_length=2)]
+    rho: Annotated[float, Field(gt=-1, lt=1)]
+
+
+class Sampling(Section):
+    """monte_carlo, latin_hypercube, sobol (scrambled; samples a power of 2), saltelli (SALib's design
+    for Sobol indices: samples x (variables + 2) runs), or grid (the cartesian product of `grid`)."""
+
+    method: Literal["monte_carlo", "latin_hypercube", "sobol", "saltelli", "grid"]
+    samples: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
+    seed: Annotated[int, Field(ge=0)] = 0
+
+
+class Config(Section):
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_\-]+$")]
+    base: Planar | SceneBase = Field(discriminator="kind")
+    variables: list[Variable] = Field(default_factory=list)
+    grid: list[GridAxis] = Field(default_factory=list)
+    correlation: Correlation | None = None
+    sampling: Sampling
+    batch_size: Annotated[int, Field(ge=1, le=1_000_000)] = 100  # samples per task
+    figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
+
+    @model_validator(mode="after")
+    def _design(self) -> Config:
+        if self.sampling.method == "grid":
+            if not self.grid or self.variables:
+                raise ValueError("sampling.method grid takes `grid` axes and no `variables`")
+        else:
+            if not self.variables or self.grid:
+                raise ValueError(f"sampling.method {self.sampling.method} takes `variables` and no `grid`")
+            if self.sampling.samples is None:
+                raise ValueError(f"sampling.samples is needed for {self.sampling.method}")
+        paths = [v.path for v in self.variables] + [a.path for a in self.grid]
+        if len(set(paths)) != len(paths):
+            raise ValueError("a path is given twice")
+        if self.correlation is not None and not set(self.correlation.between) <= set(paths):
+            raise ValueError("correlation.between must name two of the variables' paths")
+        return self

@@ -1,0 +1,156 @@
+"""What a sweep evaluates: a batch of samples (a table of inputs by dotted path) in, a table of outputs
+out, one row per sample, in the same order. A sample whose model fails (bad geometry, an unstable run)
+gets its error text and no output, and the others go on.
+
+Models are plain frozen dataclasses holding only the base's data, so they pickle to worker processes
+and dask workers; numba's compiled kernels come from its on-disk cache in each process.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from bbmc import units
+from bbmc.config import ConfigError
+from bbmc.dem.model import build_model
+from bbmc.dem.scene import Scene
+from bbmc.dem.solver import SimulationError, simulate
+from bbmc.dem.strength_reduction import factor_of_safety
+from bbmc.slope import planar
+
+FS = "factor_of_safety"
+ERROR = "error"
+
+
+def _step(tree: object, key: str) -> tuple[object, object]:
+    """The child of a mapping (by key) or a list (by index) and the key to reach it."""
+    if isinstance(tree, list):
+        index = int(key) if key.lstrip("-").isdigit() else None
+        if index is None or not -len(tree) <= index < len(tree):
+            raise KeyError(key)
+        return tree[index], index
+    if isinstance(tree, dict) and key in tree:
+        return tree[key], key
+    raise KeyError(key)
+
+
+def get_path(tree: object, path: str) -> object:
+    """The value at a dotted path (list entries by index); KeyError naming the first missing part."""
+    for key in path.split("."):
+        tree, _ = _step(tree, key)
+    return tree
+
+
+def set_path(tree: object, path: str, value: float) -> None:
+    """Set the value at a dotted path that exists (KeyError otherwise)."""
+    *parents, last = path.split(".")
+    for key in parents:
+        tree, _ = _step(tree, key)
+    _, key = _step(tree, last)
+    tree[key] = value
+
+
+def _errors(n: int) -> np.ndarray:
+    return np.full(n, "", dtype=object)
+
+
+@dataclass(frozen=True)
+class PlanarModel:
+    """Hoek & Bray's planar limit equilibrium (`bbmc.slope.planar`), the whole batch in one vectorised
+    call; a batch with an impossible sample is evaluated sample by sample, so that only that one fails."""
+
+    base: dict  # the config's `base`, as a plain mapping in its own units
+
+    def _fs(self, inputs: pd.DataFrame) -> np.ndarray:
+        values = {}
+        for key in ("height_m", "face_deg", "plane_deg", "crack_depth_m", "water_fill", "unit_weight_kN_m3",
+                    "seismic_coefficient"):  # fmt: skip
+            values[key] = inputs[key].to_numpy() if key in inputs else self.base[key]
+        strength = {
+            key: inputs[f"strength.{key}"].to_numpy() if f"strength.{key}" in inputs else value
+            for key, value in self.base["strength"].items()
+        }
+        z = np.asarray(values["crack_depth_m"], dtype=float)
+        forces = planar.planar_forces(
+            values["height_m"],
+            np.radians(values["face_deg"]),
+            np.radians(values["plane_deg"]),
+            z,
+            np.asarray(values["water_fill"]) * z,
+            np.asarray(values["unit_weight_kN_m3"]) * 1e3,
+            values["seismic_coefficient"],
+        )
+        if strength["law"] == "mohr_coulomb":
+            friction = (
+                np.radians(strength["friction_deg"])
+                if strength["friction_deg"] is not None
+                else np.arctan(strength["tan_friction"])
+            )
+            fs = planar.factor_of_safety_mohr_coulomb(
+                forces, np.asarray(strength["cohesion_kPa"]) * units.kPa, friction
+            )
+        else:
+            fs = planar.factor_of_safety_barton_bandis(
+                forces,
+                strength["jrc"],
+                np.asarray(strength["jcs_MPa"]) * units.MPa,
+                np.radians(strength["phi_b_deg"]),
+                np.radians(strength["phi_max_deg"]),
+            )
+        return np.broadcast_to(fs, (len(inputs),)).astype(float)
+
+    def __call__(self, inputs: pd.DataFrame) -> pd.DataFrame:
+        errors = _errors(len(inputs))
+        try:
+            fs = self._fs(inputs)
+        except ValueError:
+            fs = np.full(len(inputs), math.nan)
+            for k in range(len(inputs)):
+                try:
+                    fs[k] = self._fs(inputs.iloc[[k]])[0]
+                except ValueError as error:
+                    errors[k] = str(error)
+        return pd.DataFrame({FS: fs, ERROR: errors}, index=inputs.index)
+
+
+@dataclass(frozen=True)
+class SceneModel:
+    """A block scene with each sample's values set at their paths: its factor of safety by strength
+    reduction (`scene_fos`), or a monitor's value at the end of `bbmc run` and whether a stop by
+    displacement ended it (`scene_run`)."""
+
+    scene: dict  # the scene file, parsed
+    name: str  # for messages
+    kind: str
+    monitor: str | None = None
+
+    def _one(self, values: pd.Series) -> dict[str, object]:
+        tree = copy.deepcopy(self.scene)
+        for path, value in values.items():
+            set_path(tree, str(path), float(value))
+        model = build_model(Scene.model_validate(tree, strict=False), Path(self.name))
+        if self.kind == "scene_fos":
+            return {FS: factor_of_safety(model).factor_of_safety}
+        result = simulate(model)
+        summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
+        return {
+            self.monitor: float(result.history[self.monitor].iloc[-1]),
+            "stopped_by_displacement": bool(summary["stopped_by_displacement"]),
+        }
+
+    def __call__(self, inputs: pd.DataFrame) -> pd.DataFrame:
+        rows = []
+        for _, values in inputs.iterrows():
+            try:
+                row = {**self._one(values), ERROR: ""}
+            except (ConfigError, SimulationError, ValueError, KeyError) as error:
+                row = {ERROR: f"{type(error).__name__}: {error}"}
+            rows.append(row)
+        columns = [FS] if self.kind == "scene_fos" else [self.monitor, "stopped_by_displacement"]
+        return pd.DataFrame(rows, index=inputs.index).reindex(columns=[*columns, ERROR])
