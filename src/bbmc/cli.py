@@ -308,7 +308,8 @@ def bench_command(config: str | None, results: str) -> None:
     piece of work the engine leaves out), scaling.csv (time per step and peak memory, 100 to 100,000
     blocks), engine_cost.csv (time per step against an earlier commit), fos_cost.csv (each
     verification factor of safety: error, trials, wall time, and its change with one solver setting),
-    mobilized_cost.csv (the full Barton-Bandis law's update cost and update schedules),
+    mobilized_cost.csv (the full Barton-Bandis law's update cost and update schedules), sweep_cost.csv
+    (sweep throughput, speed-up on 2 processes and a LocalCluster, task overhead),
     laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios.
     """

@@ -13,6 +13,8 @@ fos_cost.csv: trials, steps and wall time of each factor of safety the verificat
 it moves with one solver setting changed at a time (`bbmc.bench.fos_cost`).
 mobilized_cost.csv: the full Barton-Bandis law's cost per sub-contact update against the peak-only
 law's, and its error against update interval and stress-change trigger (`bbmc.bench.mobilized_cost`).
+sweep_cost.csv: sweep samples per second (limit equilibrium) and per minute (DEM), the speed-up on 2
+processes and on a 2-worker dask LocalCluster, and the overhead per task (`bbmc.bench.sweep_cost`).
 
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
@@ -41,6 +43,7 @@ from bbmc.bench.fos_cost import fos_cost_table
 from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.scaling import scaling_figure, scaling_table
+from bbmc.bench.sweep_cost import sweep_cost_table
 from bbmc.config import InputFile, Section
 from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
@@ -125,6 +128,15 @@ class MobilizedCost(Section):
     stress_changes: list[Annotated[float, Field(gt=0)]] = Field(default_factory=list)
 
 
+class SweepCost(Section):
+    """Sweep throughput, speed-up on 2 processes and on a LocalCluster, task overhead
+    (`bbmc.bench.sweep_cost`)."""
+
+    le_samples: int = Field(ge=1000, le=100_000_000)
+    dem_samples: int = Field(ge=2, le=10_000)
+    repeats: Repeats
+
+
 class Config(Section):
     shear_config: InputFile  # the paper's scenes, exactly as bbmc shear and bbmc slope build them
     slope_config: InputFile
@@ -134,6 +146,7 @@ class Config(Section):
     engine_cost: EngineCost
     fos: FosCost
     mobilized: MobilizedCost
+    sweep: SweepCost
     laws: Laws
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
@@ -240,6 +253,8 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     mobilized = mobilized_cost_table(
         m.sub_contacts, m.repeats, m.update_intervals, m.stress_changes, progress
     )
+    w = config.sweep
+    sweep = sweep_cost_table(w.le_samples, w.dem_samples, w.repeats, config.slope_config, progress)
     progress("joint laws' throughput")
     return StageResult(
         tables={
@@ -251,6 +266,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "engine_cost": cost,
             "fos_cost": fos,
             "mobilized_cost": mobilized,
+            "sweep_cost": sweep,
             "laws": law_table(config.laws),
         },
         figures={

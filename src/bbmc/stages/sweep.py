@@ -20,8 +20,11 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from bbmc.config import ConfigError
+from bbmc.config import ConfigError, load_config
 from bbmc.io import StageResult
+from bbmc.slope import safety
+from bbmc.slope.config import Config as SlopeConfig
+from bbmc.slope.config import load_table4
 from bbmc.sweep import design, figures, statistics
 from bbmc.sweep.config import Config, Planar
 from bbmc.sweep.models import ERROR, FS, PlanarModel, SceneModel, get_path
@@ -32,7 +35,12 @@ __all__ = ["NAME", "Config", "run"]
 
 
 def _scene_tree(config: Config) -> dict:
-    return yaml.safe_load(Path(config.base.scene).read_text(encoding="utf-8"))
+    """The base scene: the scene file, or the paper's slope built by `bbmc.slope.safety`."""
+    base = config.base
+    if base.scene is not None:
+        return yaml.safe_load(Path(base.scene).read_text(encoding="utf-8"))
+    slope = load_config(base.slope_config, SlopeConfig)
+    return safety.reduction_scene(slope, load_table4(slope.data), base.joint_model)
 
 
 def model_of(config: Config) -> Model:
@@ -40,7 +48,7 @@ def model_of(config: Config) -> Model:
     base = config.base
     if isinstance(base, Planar):
         return PlanarModel(base.model_dump())
-    return SceneModel(_scene_tree(config), str(base.scene), base.kind, base.monitor)
+    return SceneModel(_scene_tree(config), str(base.scene or base.slope_config), base.kind, base.monitor)
 
 
 def check_paths(config: Config, config_path: Path) -> None:
@@ -80,7 +88,7 @@ def study_key(config: Config) -> str:
     folder of finished batches: a changed study never reuses another's batches."""
     text = json.dumps(config.model_dump(mode="json"), sort_keys=True)
     if not isinstance(config.base, Planar):
-        text += Path(config.base.scene).read_text(encoding="utf-8")
+        text += json.dumps(_scene_tree(config), sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 

@@ -53,15 +53,23 @@ class Planar(Section):
 
 
 class SceneBase(Section):
-    """A block scene (docs/scene-format.md): its factor of safety by strength reduction (`fos`), or a
-    monitor's value at the end of a `bbmc run` (`run`)."""
+    """A block scene: its factor of safety by strength reduction (`scene_fos`), or a monitor's value at
+    the end of a `bbmc run` (`scene_run`). The scene is a scene file (docs/scene-format.md), or the
+    paper's slope as `bbmc slope` builds it from its config (`slope_config`, `joint_model`) with the
+    strength-reduction settings of that config's `factor_of_safety`."""
 
     kind: Literal["scene_fos", "scene_run"]
-    scene: InputFile
+    scene: InputFile | None = None
+    slope_config: InputFile | None = None
+    joint_model: Literal["constant", "barton_bandis"] | None = None
     monitor: str | None = None  # scene_run: the monitor's column in history.csv (e.g. slider_x_mm)
 
     @model_validator(mode="after")
-    def _monitor(self) -> SceneBase:
+    def _source(self) -> SceneBase:
+        if (self.scene is None) == (self.slope_config is None):
+            raise ValueError("give exactly one of scene and slope_config")
+        if (self.slope_config is None) != (self.joint_model is None):
+            raise ValueError("slope_config goes with joint_model (constant or barton_bandis)")
         if (self.kind == "scene_run") != (self.monitor is not None):
             raise ValueError("a scene_run base needs `monitor` (a history.csv column); scene_fos takes none")
         return self
