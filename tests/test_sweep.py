@@ -18,6 +18,7 @@ from scipy.stats import norm
 from bbmc.cli import main
 from bbmc.config import load_config
 from bbmc.slope import fos_cases as fc
+from bbmc.slope import toppling as tp
 from bbmc.stages import sweep as stage
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -175,3 +176,14 @@ def test_a_dask_cluster_gives_the_same_answer_and_survives_a_killed_worker(tmp_p
         samples[numbers].reset_index(drop=True), expected[numbers], check_exact=True
     )
     assert (samples["error"].fillna("") == "").all() and expected["error"].isna().all()
+
+
+def test_toppling_probability_of_failure_is_that_of_phi_below_its_limit(tmp_path):
+    """configs/sweeps/toppling.yaml: Goodman & Bray's example with phi ~ N(40, 3) deg; FS < 1 exactly
+    where phi is below the limiting friction (38.15 deg), so P_f = Phi((38.15 - 40) / 3) = 0.2689; at
+    10^4 samples within 4 standard errors (measured 0.2713, 0.5 standard error)."""
+    _, out = _sweep(ROOT / "configs" / "sweeps" / "toppling.yaml", tmp_path)
+    summary = pd.read_csv(out / "toppling" / "summary.csv").set_index("quantity")["value"]
+    limit = math.degrees(tp.limiting_friction(tp.regular_system(10.0, math.radians(30.0), 10, 5.0, 5.0, 1.0)))
+    exact = norm.cdf((limit - 40.0) / 3.0)
+    assert abs(summary["probability_of_failure"] - exact) <= 4 * summary["standard_error"]

@@ -26,8 +26,8 @@ from bbmc.slope import safety
 from bbmc.slope.config import Config as SlopeConfig
 from bbmc.slope.config import load_table4
 from bbmc.sweep import design, figures, statistics
-from bbmc.sweep.config import Config, Planar
-from bbmc.sweep.models import ERROR, FS, PlanarModel, SceneModel, get_path
+from bbmc.sweep.config import Config, Planar, Toppling
+from bbmc.sweep.models import ERROR, FS, PlanarModel, SceneModel, TopplingModel, get_path
 from bbmc.sweep.runner import Model, run_batches
 
 NAME = "sweep"
@@ -48,12 +48,15 @@ def model_of(config: Config) -> Model:
     base = config.base
     if isinstance(base, Planar):
         return PlanarModel(base.model_dump())
+    if isinstance(base, Toppling):
+        return TopplingModel(base.model_dump())
     return SceneModel(_scene_tree(config), str(base.scene or base.slope_config), base.kind, base.monitor)
 
 
 def check_paths(config: Config, config_path: Path) -> None:
     """Every varying path exists in the base: ConfigError naming the entry otherwise."""
-    tree = config.base.model_dump() if isinstance(config.base, Planar) else _scene_tree(config)
+    limit_equilibrium = isinstance(config.base, Planar | Toppling)
+    tree = config.base.model_dump() if limit_equilibrium else _scene_tree(config)
     entries = [("variables", v.path) for v in config.variables] + [("grid", a.path) for a in config.grid]
     for k, (section, path) in enumerate(entries):
         index = k if section == "variables" else k - len(config.variables)
@@ -87,7 +90,7 @@ def study_key(config: Config) -> str:
     """A digest of everything that decides the samples' results (config and base scene), naming the
     folder of finished batches: a changed study never reuses another's batches."""
     text = json.dumps(config.model_dump(mode="json"), sort_keys=True)
-    if not isinstance(config.base, Planar):
+    if not isinstance(config.base, Planar | Toppling):
         text += json.dumps(_scene_tree(config), sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 

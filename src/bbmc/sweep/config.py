@@ -52,6 +52,21 @@ class Planar(Section):
     strength: MohrCoulombPlane | BartonBandisPlane = Field(discriminator="law")
 
 
+class Toppling(Section):
+    """Goodman & Bray's toppling of a regular block system (`bbmc.slope.toppling.regular_system`): FS by
+    tan phi reduction, one friction angle on bases and sides unless side_friction_deg is given."""
+
+    kind: Literal["toppling"]
+    width_m: Positive
+    base_dip_deg: Angle
+    crest_block: Annotated[int, Field(ge=1)]
+    a1_m: float
+    a2_m: float
+    b_m: float
+    friction_deg: Angle
+    side_friction_deg: Angle | None = None
+
+
 class SceneBase(Section):
     """A block scene: its factor of safety by strength reduction (`scene_fos`), or a monitor's value at
     the end of a `bbmc run` (`scene_run`). The scene is a scene file (docs/scene-format.md), or the
@@ -134,7 +149,7 @@ class Sampling(Section):
 
 class Config(Section):
     name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_\-]+$")]
-    base: Planar | SceneBase = Field(discriminator="kind")
+    base: Planar | Toppling | SceneBase = Field(discriminator="kind")
     variables: list[Variable] = Field(default_factory=list)
     grid: list[GridAxis] = Field(default_factory=list)
     correlation: Correlation | None = None

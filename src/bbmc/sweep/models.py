@@ -22,7 +22,7 @@ from bbmc.dem.model import build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.solver import SimulationError, simulate
 from bbmc.dem.strength_reduction import factor_of_safety
-from bbmc.slope import planar
+from bbmc.slope import planar, toppling
 
 FS = "factor_of_safety"
 ERROR = "error"
@@ -116,6 +116,35 @@ class PlanarModel:
                     fs[k] = self._fs(inputs.iloc[[k]])[0]
                 except ValueError as error:
                     errors[k] = str(error)
+        return pd.DataFrame({FS: fs, ERROR: errors}, index=inputs.index)
+
+
+@dataclass(frozen=True)
+class TopplingModel:
+    """Goodman & Bray's toppling (`bbmc.slope.toppling`): the block system built once per geometry, its
+    FS broadcast over the batch's friction angles; a geometry that forms no system fails its samples."""
+
+    base: dict
+
+    def __call__(self, inputs: pd.DataFrame) -> pd.DataFrame:
+        keys = ("width_m", "base_dip_deg", "crest_block", "a1_m", "a2_m", "b_m")
+        values = {k: inputs[k].to_numpy() if k in inputs else np.full(len(inputs), self.base[k]) for k in
+                  (*keys, "friction_deg", "side_friction_deg")}  # fmt: skip
+        fs, errors = np.full(len(inputs), math.nan), _errors(len(inputs))
+        geometry = np.column_stack([np.asarray(values[k], dtype=float) for k in keys])
+        for row in np.unique(geometry, axis=0):
+            rows = np.all(geometry == row, axis=1)
+            width, dip, crest, a1, a2, b = row
+            try:
+                system = toppling.regular_system(width, math.radians(dip), int(crest), a1, a2, b)
+                side = values["side_friction_deg"]
+                fs[rows] = toppling.factor_of_safety(
+                    system,
+                    np.radians(np.asarray(values["friction_deg"], dtype=float)[rows]),
+                    None if side[0] is None else np.radians(np.asarray(side, dtype=float)[rows]),
+                )
+            except ValueError as error:
+                errors[rows] = str(error)
         return pd.DataFrame({FS: fs, ERROR: errors}, index=inputs.index)
 
 
