@@ -191,19 +191,23 @@ for _stage, _help in STAGE_HELP.items():
 
 @main.command(name="run")
 @_stage_options
-def run_command(config: str | None, results: str) -> None:
+@click.argument("scene", required=False)
+def run_command(config: str | None, results: str, scene: str | None) -> None:
     """Run a block scene (docs/scene-format.md) on the DEM engine.
 
     \b
     Example:
-      bbmc run --config configs/scenes/incline.yaml
+      bbmc run configs/scenes/incline.yaml          (or: bbmc run --config configs/scenes/incline.yaml)
     writes results/run/<scene name>/history.csv (the monitors), blocks.csv, contacts.csv,
     summary.csv, warnings.csv, scene.png, history.png, provenance.json.
     A run that goes unstable stops with one line naming the step and the likely cause (exit 3)
     and writes nothing.
     """
+    if config is not None and scene is not None and config != scene:
+        raise click.UsageError("give the scene once: bbmc run SCENE.yaml, or bbmc run --config SCENE.yaml")
+    config = config or scene
     if config is None:
-        raise click.UsageError("give the scene with --config SCENE.yaml")
+        raise click.UsageError("give the scene: bbmc run SCENE.yaml (or --config SCENE.yaml)")
     config_path = Path(config)
     with _reported(run_stage.NAME):
         scene = load_config(config_path, run_stage.Config)

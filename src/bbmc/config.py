@@ -9,6 +9,7 @@ config file's folder and must exist.
 from __future__ import annotations
 
 import difflib
+import re
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
@@ -18,6 +19,67 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationErr
 
 class ConfigError(Exception):
     """A bad config or input file: the message is the one line the user sees."""
+
+
+# YAML 1.2's floats, which PyYAML (YAML 1.1) reads as strings when the exponent has no dot (1e4,
+# 1E-3, 2.5e+6 are numbers for every engineer) or when the leading zero is left out (.5).
+_FLOAT = (
+    r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?(?:[eE][-+]?[0-9]+)?"  # 1, 1.5, 1e4, 2.5e+6
+    r"|\.[0-9_]+(?:[eE][-+]?[0-9]+)?"  # .5, .5e-3
+    r"|\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$"
+)
+
+
+class _Loader(yaml.SafeLoader):
+    """PyYAML's safe loader with YAML 1.2 floats, and a key given twice in one mapping refused (the
+    last value would win silently otherwise)."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict:
+        seen: dict[object, int] = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=True)
+            line = key_node.start_mark.line + 1
+            if key in seen:
+                raise yaml.constructor.ConstructorError(
+                    None,
+                    None,
+                    f"key '{key}' is given twice (lines {seen[key]} and {line})",
+                    key_node.start_mark,
+                )
+            seen[key] = line
+        return super().construct_mapping(node, deep)
+
+
+_Loader.yaml_implicit_resolvers = {
+    first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:float"]
+    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
+}
+_Loader.add_implicit_resolver("tag:yaml.org,2002:float", re.compile(_FLOAT), list("-+0123456789."))
+
+
+def read_yaml(path: str | Path) -> object:
+    """A YAML file's content (YAML 1.2 numbers; a repeated key refused); any file that cannot be read as
+    YAML text is a one-line `ConfigError` naming it."""
+    path = Path(path)
+    if path.is_dir():
+        raise ConfigError(f"{path}: is a folder, not a file")
+    if not path.is_file():
+        raise ConfigError(f"{path}: file not found")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as error:
+        raise ConfigError(
+            f"{path}: not UTF-8 text (byte {error.start}): a binary file, or another encoding"
+        ) from None
+    except OSError as error:
+        raise ConfigError(f"{path}: cannot read: {error.strerror}") from None
+    try:
+        return yaml.load(text, Loader=_Loader)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or "cannot parse"
+        raise ConfigError(f"{path}: invalid YAML{where}: {problem}") from None
 
 
 class Section(BaseModel):
@@ -74,19 +136,21 @@ def _describe(model: type[BaseModel], error: dict[str, Any]) -> str:
 def load_config(path: str | Path, model: type[ModelT]) -> ModelT:
     """Read, parse and validate a YAML config; raise `ConfigError` with one line on any fault."""
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise ConfigError(f"{path}: config file not found")
-    try:
-        raw = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}" if mark else ""
-        problem = getattr(exc, "problem", None) or "cannot parse"
-        raise ConfigError(f"{path}: invalid YAML{where}: {problem}") from None
+    raw = read_yaml(path)
+    if raw is None:
+        raise ConfigError(f"{path}: the file is empty")
+    return validate(raw, model, str(path), path.parent)
+
+
+def validate(raw: object, model: type[ModelT], source: str, base_dir: Path = Path(".")) -> ModelT:
+    """Validate a parsed config (a mapping) against `model`; `source` names it in the one-line
+    `ConfigError`; relative paths in it are taken from `base_dir`."""
     if not isinstance(raw, dict):
-        raise ConfigError(f"{path}: top level must be a mapping of keys, got {type(raw).__name__}")
+        raise ConfigError(f"{source}: top level must be a mapping of keys, got {type(raw).__name__}")
     try:
-        return model.model_validate(raw, context={"base_dir": path.parent})
+        return model.model_validate(raw, context={"base_dir": base_dir})
     except ValidationError as exc:
         errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
-        raise ConfigError(f"{path}: {_describe(model, errors[0])}") from None
+        raise ConfigError(f"{source}: {_describe(model, errors[0])}") from None

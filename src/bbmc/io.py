@@ -33,6 +33,10 @@ def read_table(path: Path, columns: Mapping[str, RowCheck]) -> pd.DataFrame:
     """
     try:
         table = pd.read_csv(path)
+    except UnicodeDecodeError as exc:
+        raise ConfigError(
+            f"{path}: not UTF-8 text (byte {exc.start}): a binary file, or another encoding"
+        ) from None
     except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
         raise ConfigError(f"{path}: cannot read CSV: {str(exc).splitlines()[0]}") from None
     for name, (check, rule) in columns.items():

@@ -18,9 +18,8 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import yaml
 
-from bbmc.config import ConfigError, load_config
+from bbmc.config import ConfigError, load_config, read_yaml
 from bbmc.io import StageResult
 from bbmc.slope import safety
 from bbmc.slope.config import Config as SlopeConfig
@@ -38,7 +37,7 @@ def _scene_tree(config: Config) -> dict:
     """The base scene: the scene file, or the paper's slope built by `bbmc.slope.safety`."""
     base = config.base
     if base.scene is not None:
-        return yaml.safe_load(Path(base.scene).read_text(encoding="utf-8"))
+        return read_yaml(base.scene)
     slope = load_config(base.slope_config, SlopeConfig)
     return safety.reduction_scene(slope, load_table4(slope.data), base.joint_model)
 

@@ -1,0 +1,147 @@
+"""What a new user trips on: YAML 1.2 numbers, a key given twice, unreadable files, the Python API, and
+`bbmc run SCENE.yaml`. Each failure must be one line naming the file (and the key), exit 2, nothing
+written."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+import yaml
+from click.testing import CliRunner
+
+from bbmc import api
+from bbmc.cli import main
+from bbmc.config import ConfigError, read_yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+INCLINE = ROOT / "configs" / "scenes" / "incline.yaml"
+
+
+@pytest.mark.parametrize(
+    "text, value",
+    [
+        ("1e4", 1e4),
+        ("1E-3", 1e-3),
+        ("2.5e+6", 2.5e6),
+        (".5", 0.5),
+        ("-1e-3", -1e-3),
+        ("+.5e1", 5.0),
+        ("10", 10),
+    ],
+)
+def test_every_yaml_1_2_number_form_is_a_number(tmp_path, text, value):
+    path = tmp_path / "numbers.yaml"
+    path.write_text(f"x: {text}\n")
+    read = read_yaml(path)["x"]
+    assert read == value and isinstance(read, type(value))
+
+
+def test_a_scene_written_with_exponents_runs_as_the_decimal_one(tmp_path):
+    """incline.yaml with its stiffness as 1e1 and its density as 2.5e3: the same scene, the same run."""
+    text = INCLINE.read_text().replace("kn_MPa_per_mm: 10", "kn_MPa_per_mm: 1e1").replace("2500", "2.5e3")
+    assert "1e1" in text and "2.5e3" in text
+    path = tmp_path / "incline.yaml"
+    path.write_text(text)
+    assert api.load_scene(path) == api.load_scene(INCLINE)
+
+
+def _refused(outcome, *fragments: str) -> str:
+    assert outcome.exit_code == 2, outcome.output
+    lines = outcome.output.strip().splitlines()
+    assert len(lines) == 1, outcome.output
+    assert "Traceback" not in outcome.output
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+    return lines[0]
+
+
+def test_a_key_given_twice_is_refused_naming_it_and_both_lines(tmp_path):
+    text = INCLINE.read_text().replace("friction_deg: 20}", "friction_deg: 20, friction_deg: 40}")
+    path = tmp_path / "twice.yaml"
+    path.write_text(text)
+    line = next(k for k, row in enumerate(text.splitlines(), 1) if "friction_deg: 40" in row)
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(tmp_path / "out")])
+    _refused(outcome, str(path), "'friction_deg' is given twice", f"lines {line} and {line}")
+    assert not (tmp_path / "out").exists()
+
+
+def _unreadable(tmp_path: Path, kind: str) -> Path:
+    path = tmp_path / "scene.yaml"
+    if kind == "binary":
+        path.write_bytes(bytes(range(256)) * 4)
+    elif kind == "latin-1":
+        path.write_bytes("name: pente\ndescription: talus à 30°\n".encode("latin-1"))
+    elif kind == "folder":
+        path.mkdir()
+    elif kind == "empty":
+        path.write_text("")
+    return path
+
+
+@pytest.mark.parametrize(
+    "kind, fragment",
+    [
+        ("binary", "not UTF-8 text"),
+        ("latin-1", "not UTF-8 text"),
+        ("folder", "is a folder"),
+        ("empty", "empty"),
+    ],
+)
+@pytest.mark.parametrize("command", ["run", "fos", "sweep", "mc"])
+def test_an_unreadable_config_is_one_line(tmp_path, kind, fragment, command):
+    path = _unreadable(tmp_path, kind)
+    outcome = CliRunner().invoke(main, [command, "--config", str(path), "--results", str(tmp_path / "out")])
+    _refused(outcome, str(path), fragment)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root reads a file without read permission")
+def test_a_config_without_read_permission_is_one_line(tmp_path):
+    path = tmp_path / "scene.yaml"
+    shutil.copy(INCLINE, path)
+    path.chmod(0)
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(tmp_path / "out")])
+    _refused(outcome, str(path), "cannot read")
+
+
+def test_a_data_csv_in_another_encoding_is_one_line(tmp_path):
+    """bbmc mc with its Table 1 replaced by a Latin-1 file: one line naming the CSV."""
+    data = yaml.safe_load((ROOT / "configs" / "mc.yaml").read_text())
+    for key, value in data["data"].items():
+        data["data"][key] = str((ROOT / "configs" / value).resolve())
+    bad = tmp_path / "table1.csv"
+    bad.write_bytes("sigma_n_MPa,note\n0.05,d\xe9j\xe0\n".encode("latin-1"))
+    first = next(iter(data["data"]))
+    data["data"][first] = str(bad)
+    config = tmp_path / "mc.yaml"
+    config.write_text(yaml.safe_dump(data))
+    outcome = CliRunner().invoke(main, ["mc", "--config", str(config), "--results", str(tmp_path / "out")])
+    _refused(outcome, str(bad), "not UTF-8 text")
+
+
+def test_bbmc_run_takes_the_scene_as_an_argument(tmp_path):
+    outcome = CliRunner().invoke(main, ["run", str(INCLINE), "--results", str(tmp_path)])
+    assert outcome.exit_code == 0, outcome.output
+    assert (tmp_path / "run" / "incline" / "history.csv").exists()
+    twice = CliRunner().invoke(
+        main, ["run", str(INCLINE), "--config", str(ROOT / "configs" / "scenes" / "example.yaml")]
+    )
+    assert twice.exit_code == 2 and "give the scene once" in twice.output
+
+
+def test_the_python_api_runs_a_scene_from_a_file_or_a_dict():
+    """api.run on incline.yaml and on the same scene as a dict: the same history, as a DataFrame; bad
+    input is a one-line ConfigError; api.factor_of_safety gives the cracked slope's FS."""
+    from_file = api.run(INCLINE)
+    from_dict = api.run(yaml.safe_load(INCLINE.read_text()))
+    assert list(from_file.history.columns)[:2] == ["step", "time_s"]
+    assert from_file.history.equals(from_dict.history)
+    broken = yaml.safe_load(INCLINE.read_text())
+    broken["solver"]["dampng"] = 0.5
+    with pytest.raises(ConfigError, match="did you mean 'damping'"):
+        api.load_scene(broken)
+    fs = api.factor_of_safety(ROOT / "configs" / "scenes" / "planar_crack.yaml").factor_of_safety
+    assert fs == pytest.approx(1.115, rel=0.01)
