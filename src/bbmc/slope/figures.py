@@ -91,7 +91,7 @@ def fig7(model: Model, numbering: dict[int, int], slope: JointedSlope, dpi: int)
     ax.set(
         xlabel="x [m] (the free face looks towards -x)",
         ylabel="y [m]",
-        title=f"Fig 7: jointed slope, height {slope.height_m:g} m, face {slope.face_angle_deg:g} deg; "
+        title=f"Fig 7: jointed slope, height {slope.height_m:g} m, face {slope.face_angle_deg:g} deg;\n"
         "monitored blocks No. 1-4 on the bedding joint through the toe",
     )
     ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
@@ -102,7 +102,7 @@ def fig8(runs: dict, snapshots: pd.DataFrame, dpi: int) -> Figure:
     """Fig 8: displacement vectors of the free blocks at each snapshot, one row per model (arrows of
     one row share a scale, given in the row's key), and the largest rotation of a free block."""
     fractions = sorted(snapshots["fraction"].unique())
-    fig = Figure(figsize=(4 * len(fractions), 6.5), dpi=dpi, layout="constrained")
+    fig = Figure(figsize=(4 * len(fractions), 4.6), dpi=dpi, layout="constrained")  # the panels' 3:1
     axes = fig.subplots(2, len(fractions), squeeze=False, sharex=True, sharey=True)
     for row, (kind, run) in enumerate(runs.items()):
         frame = snapshots[snapshots["model"] == kind]
@@ -129,15 +129,15 @@ def fig8(runs: dict, snapshots: pd.DataFrame, dpi: int) -> Figure:
             )
             turned = shot["rotation_deg"].abs().max()
             ax.text(
-                0.98,
+                0.97,
                 0.04,
                 f"largest rotation {turned:.2g} deg",
                 transform=ax.transAxes,
                 ha="right",
-                fontsize=8,
+                fontsize=7,
             )
             if col == len(fractions) - 1:
-                ax.quiverkey(q, 0.8, 1.02, largest, f"{largest:.3g} mm", labelpos="E", coordinates="axes")
+                ax.quiverkey(q, 0.12, 0.86, largest, f"{largest:.3g} mm", labelpos="E", coordinates="axes")
             ax.set(xlabel="x [m]" if row else None, ylabel="y [m]" if col == 0 else None)
     fig.suptitle("Fig 8: displacement vectors of the free blocks (arrow length in mm, to the key's scale)")
     return fig
