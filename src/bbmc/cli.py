@@ -192,14 +192,16 @@ for _stage, _help in STAGE_HELP.items():
 @main.command(name="run")
 @_stage_options
 @click.argument("scene", required=False)
-def run_command(config: str | None, results: str, scene: str | None) -> None:
+@click.option("--vtk", is_flag=True, help="Also write vtk/: every record for ParaView (VTU + PVD).")
+def run_command(config: str | None, results: str, scene: str | None, vtk: bool) -> None:
     """Run a block scene (docs/scene-format.md) on the DEM engine.
 
     \b
     Example:
       bbmc run configs/scenes/incline.yaml          (or: bbmc run --config configs/scenes/incline.yaml)
     writes results/run/<scene name>/history.csv (the monitors), blocks.csv, contacts.csv,
-    summary.csv, warnings.csv, scene.png, history.png, provenance.json.
+    summary.csv, warnings.csv, scene.png, history.png, provenance.json; with --vtk also vtk/
+    (blocks_*.vtu, contacts_*.vtu, blocks.pvd, contacts.pvd: open a .pvd in ParaView).
     A run that goes unstable stops with one line naming the step and the likely cause (exit 3)
     and writes nothing.
     """
@@ -214,7 +216,7 @@ def run_command(config: str | None, results: str, scene: str | None) -> None:
         progress = _Progress(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
             with _scene_at_fault(config_path):
-                result, outcome = run_stage.run(scene, config_path, progress)
+                result, outcome = run_stage.run(scene, config_path, progress, vtk)
         finally:
             progress.close()
         for warning in outcome.warnings:

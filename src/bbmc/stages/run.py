@@ -3,7 +3,8 @@
 Writes into <results>/run/<scene name>/: history.csv (the monitors at every record step),
 blocks.csv (final state of every block), contacts.csv (final state of every sub-contact),
 summary.csv (steps, time, time-step range, contact searches, interpenetration, warnings),
-scene.png, history.png and provenance.json.
+scene.png, history.png and provenance.json; with --vtk, vtk/ (blocks and sub-contacts of every record
+as VTU files and their PVD collections, for ParaView).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from bbmc.dem.figures import history_figure, scene_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.solver import RunResult, initial_state, simulate
+from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
 
 NAME = "run"
@@ -29,12 +31,14 @@ def output_name(scene: Scene, config_path: Path) -> str:
 
 
 def run(
-    scene: Scene, config_path: Path, progress: Callable[[int], None] | None = None
+    scene: Scene, config_path: Path, progress: Callable[[int], None] | None = None, vtk: bool = False
 ) -> tuple[StageResult, RunResult]:
-    """Build the scene (checking every reference), run it, and gather its tables and figures."""
+    """Build the scene (checking every reference), run it, and gather its tables and figures; with
+    `vtk`, also the ParaView series of every record (`bbmc.dem.vtk`)."""
     model: Model = build_model(scene, config_path)
     initial = initial_state(model).world.copy()
-    result = simulate(model, progress)
+    series = Series(model) if vtk else None
+    result = simulate(model, progress, series)
     warnings = pd.DataFrame({"warning": result.warnings}, dtype=object)
     tables = {
         "history": result.history,
@@ -47,4 +51,5 @@ def run(
         "scene": scene_figure(model, initial, result.state.world, result.state.dof, scene.figure_dpi),
         "history": history_figure(result.history, scene.figure_dpi),
     }
-    return StageResult(tables=tables, figures=figures), result
+    files = series.collections() if series else {}
+    return StageResult(tables=tables, figures=figures, files=files), result
