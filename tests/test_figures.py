@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import meshio
+import numpy as np
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -70,14 +72,24 @@ def test_quick_stages_draw_every_text_inside_the_canvas(tmp_path, stage):
 
 def test_the_slope_stages_figures_draw_every_text_inside_the_canvas(tmp_path):
     """Figs 7-10, fs_vs_dip, dip_sensitivity and the two mechanisms (the sensitivity cut to two dips and
-    no animation, to keep it short: the figures are the same kind)."""
+    no animation, to keep it short: the figures are the same kind); and the slope's ParaView series
+    (`vtk_every_records`): one VTU per kept record, each with the 34 blocks."""
 
     def shorter(data: dict) -> None:
         data["sensitivity"]["dips_deg"] = [20.0, 30.0]
         data["animation_frames"] = 0
+        data["vtk_every_records"] = 300  # and its ParaView series, read back below
 
     config = load_config(config_copy(tmp_path, "slope", shorter), slope.Config)
-    _assert_inside(slope.run(config).figures)
+    result = slope.run(config)
+    _assert_inside(result.figures)
+    for kind in ("constant", "barton_bandis"):
+        pvd = result.files[f"vtk/{kind}/blocks.pvd"]
+        vtu = sorted(name for name in result.files if name.startswith(f"vtk/{kind}/blocks_"))
+        assert pvd.count("<DataSet") == len(vtu) >= 2
+        path = tmp_path / f"{kind}.vtu"
+        path.write_bytes(result.files[vtu[-1]])
+        assert len(np.concatenate(meshio.read(path).cell_data["displacement"])) == 34
 
 
 def test_run_fos_and_sweep_figures_draw_every_text_inside_the_canvas(tmp_path):

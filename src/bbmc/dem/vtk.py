@@ -91,10 +91,15 @@ class Series:
 
     model: Model
     folder: str = "vtk"
+    every: int = 1  # keep every `every`-th record (the first always)
     files: dict[str, bytes | str] = field(default_factory=dict)
     times: list[float] = field(default_factory=list)
+    seen: int = 0
 
     def __call__(self, state) -> None:
+        self.seen += 1
+        if (self.seen - 1) % self.every:
+            return
         k = len(self.times)
         self.times.append(float(state.clock[L.TIME]))
         blocks = block_mesh(self.model, state.blocks, state.world)

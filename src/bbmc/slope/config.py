@@ -73,6 +73,7 @@ class Config(Section):
     factor_of_safety: FactorOfSafety
     residual: Residual
     animation_frames: int = Field(ge=0, le=200)  # 0: no GIF
+    vtk_every_records: int | None = Field(default=None, ge=1)  # vtk/<model>/ for ParaView [default: none]
     figure_dpi: int = Field(ge=50, le=600)
 
     @model_validator(mode="after")

@@ -28,6 +28,7 @@ from bbmc.dem.figures import mechanism_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import simulate
+from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
 from bbmc.slope import figures, safety
 from bbmc.slope import limit_equilibrium as le
@@ -42,12 +43,20 @@ class SlopeRun:
     """One run of the slope: every block's centroid and rotation at every record, and the monitors."""
 
     def __init__(
-        self, model: Model, numbering: dict[int, int], progress: Callable[[int], None] | None
+        self,
+        model: Model,
+        numbering: dict[int, int],
+        progress: Callable[[int], None] | None,
+        series: Series | None = None,
     ) -> None:
-        self.model, self.numbering, self.paths = model, numbering, []
-        self.result = simulate(
-            model, progress, lambda s: self.paths.append(s.blocks[:, [L.X, L.Y, L.TH]].copy())
-        )
+        self.model, self.numbering, self.paths, self.series = model, numbering, [], series
+
+        def record(state) -> None:
+            self.paths.append(state.blocks[:, [L.X, L.Y, L.TH]].copy())
+            if series is not None:
+                series(state)
+
+        self.result = simulate(model, progress, record)
         self.paths = np.array(self.paths)
         self.steps = self.result.history["step"].to_numpy()
         self.time = self.result.history["time_s"].to_numpy()
@@ -76,8 +85,10 @@ def run_slope(
     slope: JointedSlope,
     monitor_joints: bool,
     progress: Callable[[int], None] | None = None,
+    vtk_every: int | None = None,
 ) -> SlopeRun:
-    """Run one joint model on one slope for run.duration_s of physical time."""
+    """Run one joint model on one slope for run.duration_s of physical time (with `vtk_every`, its
+    ParaView series of every vtk_every-th record too)."""
     probe = _model(config, table4, kind, slope, [])
     layer = sm.sliding_layer(probe, slope)
     numbering = sm.paper_numbering(layer) if monitor_joints else {2: layer[0]}
@@ -89,7 +100,9 @@ def run_slope(
             for joint, point in points.items()
             for q in ("sigma_n", "tau", "kn", "ks", "cohesion", "friction")
         ]
-    return SlopeRun(_model(config, table4, kind, slope, monitors), numbering, progress)
+    model = _model(config, table4, kind, slope, monitors)
+    series = Series(model, f"vtk/{kind}", vtk_every) if vtk_every else None
+    return SlopeRun(model, numbering, progress, series)
 
 
 CLAIMS = (
@@ -398,7 +411,9 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     runs = {}
     for kind in sm.JOINT_MODELS:
         progress(f"slope run, {kind} joints")
-        runs[kind] = run_slope(config, table4, kind, config.slope, monitor_joints=True)
+        runs[kind] = run_slope(
+            config, table4, kind, config.slope, monitor_joints=True, vtk_every=config.vtk_every_records
+        )
     progress("limit equilibrium")
     sweep, critical = limit_equilibrium(config, table4)
     dips = sensitivity(config, table4, progress)
@@ -413,6 +428,9 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     blocks = block_table(runs["constant"].model, runs["constant"].numbering)
     dpi = config.figure_dpi
     files = {"animation.gif": _gif(runs, config.animation_frames, dpi)} if config.animation_frames else {}
+    for run_of_kind in runs.values():
+        if run_of_kind.series is not None:
+            files |= run_of_kind.series.collections()
     return StageResult(
         tables={
             "fig7_blocks": blocks,
