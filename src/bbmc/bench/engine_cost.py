@@ -66,11 +66,19 @@ def engine_cost_table(
     """One row per scene: seconds per step on this engine and on `commit`'s, best of `repeats`
     alternating fresh processes, and their ratio (this over that). If the commit cannot be checked
     out (no git, a shallow clone), one row says why."""
-    cases = [
-        (f"slope, about {n} blocks", _slope_code(n, steps, str(Path(slope_config).resolve())))
-        for n in block_counts
-    ]
-    cases.append(("shear box, Table 3 tests with eq 16", _shear_code(str(Path(shear_config).resolve()))))
+    root = SOURCE.parent
+    slope_in_repo = Path(slope_config).resolve().relative_to(root)
+    shear_in_repo = Path(shear_config).resolve().relative_to(root)
+
+    def cases(tree: Path) -> list[tuple[str, str]]:
+        """The timed scenes, each side reading its own tree's configs (later commits add sections an
+        earlier one would refuse; the scenes' own keys are the same)."""
+        slope, shear = str(tree.parent / slope_in_repo), str(tree.parent / shear_in_repo)
+        return [
+            *((f"slope, about {n} blocks", _slope_code(n, steps, slope)) for n in block_counts),
+            ("shear box, Table 3 tests with eq 16", _shear_code(shear)),
+        ]
+
     with tempfile.TemporaryDirectory(prefix="bbmc-engine-") as folder:
         try:
             then = _worktree(commit, Path(folder) / "then")
@@ -81,12 +89,13 @@ def engine_cost_table(
             )
         try:
             rows = []
-            for scene, code in cases:
+            codes = {"now": dict(cases(SOURCE)), "then": dict(cases(then))}
+            for scene in codes["now"]:
                 best: dict[str, dict] = {}
                 for k in range(repeats):
                     for label, source in (("now", SOURCE), ("then", then)):
                         progress(f"engine cost: {scene}, {label}, run {k + 1} of {repeats}")
-                        reading = answer_of_fresh_process(code, source, timeout_s)
+                        reading = answer_of_fresh_process(codes[label][scene], source, timeout_s)
                         if label not in best or reading["seconds_per_step"] < best[label]["seconds_per_step"]:
                             best[label] = reading
                 rows.append(

@@ -193,19 +193,21 @@ def _open(subs, s):
 
 
 @numba.njit(cache=True)
-def _sub_contact_law(subs, s, un, dus, after_slip, divisor):
+def _sub_contact_law(subs, s, un, dus, after_slip, divisor, dilates):
     """Incremental force-displacement law of one sub-contact (module docstring), in place; its shear and
     tensile strengths divided by `divisor` (strength reduction; 1 otherwise). While it carries normal
     stress it accumulates its shear path |d u_s|, and its dilation tan(d_mob) d|u_s|: the asperities
     ride up as the joint moves away from where it started and down as it moves back (never below 0),
-    so the law sees the geometric overlap u_n plus the dilation so far (0 for laws without dilation).
-    Under a constant normal load the blocks move apart by it; held at their distance, the joint's
-    sigma_n rises by K_n per unit of dilation."""
+    so the law sees the geometric overlap u_n plus the dilation so far (`dilates`: the law has any;
+    the others skip its work). Under a constant normal load the blocks move apart by it; held at their
+    distance, the joint's sigma_n rises by K_n per unit of dilation."""
     if subs[s, SN] > 0.0:
         subs[s, PATH] += abs(dus)
-        away = abs(subs[s, US] + dus) - abs(subs[s, US])
-        subs[s, DILATION] = max(subs[s, DILATION] + subs[s, TAN_DILATION] * away, 0.0)
-    un += subs[s, DILATION]
+        if dilates:
+            away = abs(subs[s, US] + dus) - abs(subs[s, US])
+            subs[s, DILATION] = max(subs[s, DILATION] + subs[s, TAN_DILATION] * away, 0.0)
+    if dilates:
+        un += subs[s, DILATION]
     bonded = subs[s, TEN] > 0.0
     if bonded:
         sn = subs[s, SN] + subs[s, KN] * (un - subs[s, UN])
@@ -355,6 +357,7 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
         tx, ty = -ny, nx
         after_slip = laws[contacts[c, JOINT_TYPE], AFTER_SLIP]
         divisor = params[contacts[c, JOINT_TYPE], P_STRENGTH_DIVISOR]
+        dilates = laws[contacts[c, JOINT_TYPE], STRENGTH_LAW] == STRENGTH_MOBILIZED
         for k in range(n_sub):
             s = first + k
             f, share = sub_contact_place(k, n_sub)
@@ -367,7 +370,7 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
             rbx, rby = cx - blocks[b, X], cy - blocks[b, Y]
             dvx = (blocks[b, VX] - blocks[b, W] * rby) - (blocks[a, VX] - blocks[a, W] * ray)
             dvy = (blocks[b, VY] + blocks[b, W] * rbx) - (blocks[a, VY] + blocks[a, W] * rax)
-            _sub_contact_law(subs, s, h_a - h_b, (dvx * tx + dvy * ty) * dt, after_slip, divisor)
+            _sub_contact_law(subs, s, h_a - h_b, (dvx * tx + dvy * ty) * dt, after_slip, divisor, dilates)
             subs[s, LENGTH] = length
             subs[s, CX] = cx
             subs[s, CY] = cy

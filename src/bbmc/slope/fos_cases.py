@@ -22,8 +22,8 @@ from bbmc import laws
 from bbmc.slope import planar, toppling
 from bbmc.slope import planar_scene as ps
 from bbmc.slope import toppling_scene as ts
+from bbmc.slope.limit_equilibrium import G
 
-G = 9.81
 DENSITY = 2500.0  # kg/m^3
 DIP_DEG = 30.0
 BLOCK_SOLVER = {"steps": 100_000, "time_step": {"step_s": 1e-3}}

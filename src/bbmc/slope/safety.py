@@ -27,19 +27,22 @@ from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safet
 from bbmc.slope import model as sm
 from bbmc.slope import planar
 from bbmc.slope.config import Config, Residual
-
-G = 9.81  # m/s^2, the scenes' gravity
+from bbmc.slope.limit_equilibrium import G
 
 
 def reduction_scene(config: Config, table4: sm.Table4, kind: sm.JointModel) -> dict:
     """The slope's scene with one joint model, its `fos:` section and equilibrium budget from the config."""
     law = sm.joint_law(kind, table4, config.constant, config.barton_bandis)
     scene = sm.slope_scene(f"slope_{kind}", config.slope, table4.density_kg_m3, law, config.run, [])
+    return for_strength_reduction(scene, config)
+
+
+def for_strength_reduction(scene: dict, config: Config) -> dict:
+    """`scene` set up for `bbmc fos`: the config's `factor_of_safety` as its `fos:` section, its
+    equilibrium budget as the step limit, no other stop."""
     settings = config.factor_of_safety
-    scene["solver"]["steps"] = settings.max_steps
-    scene["solver"]["stop"] = None
-    scene["fos"] = settings.model_dump(exclude={"max_steps"})
-    return scene
+    solver = {**scene["solver"], "steps": settings.max_steps, "stop": None}
+    return {**scene, "solver": solver, "fos": settings.model_dump(exclude={"max_steps"})}
 
 
 def strength_reduction(
@@ -172,11 +175,7 @@ def residual_comparison(config: Config, table4: sm.Table4) -> pd.DataFrame:
         run = simulate(model)
         free = ~model.immobile
         moved = np.hypot(*(run.state.blocks[free][:, [L.X, L.Y]] - model.blocks[free][:, [L.X, L.Y]]).T)
-        fos_scene = {
-            **scene,
-            "solver": {**scene["solver"], "steps": config.factor_of_safety.max_steps, "stop": None},
-            "fos": config.factor_of_safety.model_dump(exclude={"max_steps"}),
-        }
+        fos_scene = for_strength_reduction(scene, config)
         result = factor_of_safety(
             build_model(Scene.model_validate(fos_scene, strict=False), Path(f"{name}.yaml"))
         )

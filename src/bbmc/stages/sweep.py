@@ -42,20 +42,19 @@ def _scene_tree(config: Config) -> dict:
     return safety.reduction_scene(slope, load_table4(slope.data), base.joint_model)
 
 
-def model_of(config: Config) -> Model:
-    """The model each sample runs."""
+def model_of(config: Config, tree: dict | None) -> Model:
+    """The model each sample runs (`tree`: the base scene, for a scene base)."""
     base = config.base
     if isinstance(base, Planar):
         return PlanarModel(base.model_dump())
     if isinstance(base, Toppling):
         return TopplingModel(base.model_dump())
-    return SceneModel(_scene_tree(config), str(base.scene or base.slope_config), base.kind, base.monitor)
+    return SceneModel(tree, str(base.scene or base.slope_config), base.kind, base.monitor)
 
 
-def check_paths(config: Config, config_path: Path) -> None:
+def check_paths(config: Config, config_path: Path, tree: dict | None) -> None:
     """Every varying path exists in the base: ConfigError naming the entry otherwise."""
-    limit_equilibrium = isinstance(config.base, Planar | Toppling)
-    tree = config.base.model_dump() if limit_equilibrium else _scene_tree(config)
+    tree = config.base.model_dump() if tree is None else tree
     entries = [("variables", v.path) for v in config.variables] + [("grid", a.path) for a in config.grid]
     for k, (section, path) in enumerate(entries):
         index = k if section == "variables" else k - len(config.variables)
@@ -85,12 +84,12 @@ def design_of(config: Config, config_path: Path) -> tuple[pd.DataFrame, dict | N
         raise ConfigError(f"{config_path}: key 'variables': {error}") from None
 
 
-def study_key(config: Config) -> str:
+def study_key(config: Config, tree: dict | None) -> str:
     """A digest of everything that decides the samples' results (config and base scene), naming the
     folder of finished batches: a changed study never reuses another's batches."""
     text = json.dumps(config.model_dump(mode="json"), sort_keys=True)
-    if not isinstance(config.base, Planar | Toppling):
-        text += json.dumps(_scene_tree(config), sort_keys=True)
+    if tree is not None:
+        text += json.dumps(tree, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -122,10 +121,11 @@ def run(
     say: Callable[[str], None] = lambda _: None,
 ) -> StageResult:
     """Design, run (resuming from `progress_root`), summarise and draw the study."""
-    check_paths(config, config_path)
+    tree = None if isinstance(config.base, Planar | Toppling) else _scene_tree(config)  # read once
+    check_paths(config, config_path, tree)
     table, problem = design_of(config, config_path)
-    store = progress_root / f"{config.name}.progress" / study_key(config)
-    samples = run_batches(model_of(config), table, store, config.batch_size, scheduler, workers, say)
+    store = progress_root / f"{config.name}.progress" / study_key(config, tree)
+    samples = run_batches(model_of(config, tree), table, store, config.batch_size, scheduler, workers, say)
     errors = samples[ERROR].fillna("").astype(str).str.len().to_numpy() > 0
     if config.base.kind == "scene_run":
         return StageResult(
