@@ -144,6 +144,45 @@ def test_sliding_with_cohesion_follows_the_after_slip_rule(tmp_path, after_slip,
     np.testing.assert_allclose(_sliding_distance(h)[later], expected, rtol=0.01)
 
 
+def test_the_default_joint_keeps_its_cohesion_after_slip(tmp_path):
+    """A joint written without `after_slip` is ductile (limit equilibrium's rule): the block slides at
+    a = g(sin b - cos b tan phi) - c L / m, as with `keep` (1 %)."""
+    angle, friction = 30.0, 20.0
+    weight = slider_mass() * G
+    b, phi = math.radians(angle), math.radians(friction)
+    cohesion = 0.5 * weight * (math.sin(b) - math.cos(b) * math.tan(phi)) / SLIDER[0]
+    joint = constant_joint(friction, cohesion_MPa=cohesion / units.MPa)
+    scene = block_on_base(
+        angle, joint, steps=6000, every=500, gap_m=embedded_gap(angle, 10.0), slider_fix=("rotation",)
+    )
+    h = run_scene(tmp_path, scene).history
+    later = h["time_s"] > 0.25
+    expected = _closed_form_distance(h["time_s"][later].to_numpy(), angle, friction, cohesion)
+    np.testing.assert_allclose(_sliding_distance(h)[later], expected, rtol=0.01)
+
+
+@pytest.mark.parametrize("after_slip", ["keep", "zero"])
+def test_a_joint_that_has_slipped_carries_no_tension(tmp_path, after_slip):
+    """A bonded joint (T = 0.1 MPa, c = 0.05 MPa) pulled at 0.02 MPa holds the block (sigma_n =
+    -0.02 MPa to 0.1 %); sheared past c + sigma_n tan phi it slips, loses its tensile strength under
+    either rule (limit equilibrium counts no tension) and opens: the block leaves the base."""
+    joint = constant_joint(30.0, cohesion_MPa=0.05, tensile_strength_MPa=0.1, after_slip=after_slip)
+    scene = block_on_base(0.0, joint, steps=6000, every=100, gravity=(0.0, 0.0), slider_fix=("rotation",))
+    scene["loads"] = {
+        "edge_stresses": [
+            {"block": "slider", "edge": "up", "sigma_n_MPa": -0.02, "ramp_steps": 500},
+            {"block": "slider", "edge": "up", "tau_MPa": 0.06, "ramp_steps": 1000, "start_step": 2000},
+        ]
+    }
+    scene["solver"]["damping"] = 0.8
+    h = run_scene(tmp_path, scene).history.set_index("step")
+    assert h.loc[1900, "sn_MPa"] == pytest.approx(-0.02, rel=1e-3)
+    assert h.loc[1900, "uy_mm"] < 0.01
+    assert h["uy_mm"].iloc[-1] > 1.0
+    opened = h.loc[h["uy_mm"] > 1.0]
+    assert (opened["sn_MPa"].fillna(0.0) == 0.0).all()
+
+
 def _loaded_block(sigma_MPa: float, tau_MPa: float, joint: dict, steps: int, ramp: int = 0) -> dict:
     scene = block_on_base(0.0, joint, steps=steps, damping=0.8, gravity=(0.0, 0.0), slider_fix=("rotation",))
     scene["loads"] = {

@@ -160,6 +160,25 @@ def test_bbmc_fos_runs_the_hand_written_scene(tmp_path):
     trials = pd.read_csv(folder / "fos.csv")
     assert len(trials) == summary["trials"]
     assert set(trials["verdict"]) == {"stable", "unstable"}
+    assert summary["laws_losing_cohesion_at_slip"] == 0
+    assert "note" not in outcome.output
+
+
+def test_a_scene_that_loses_cohesion_at_slip_says_so_and_lies_below_limit_equilibrium(tmp_path):
+    """The hand-written scene with UDEC's Coulomb slip (`after_slip: zero`): one note line naming the
+    law, the row laws_losing_cohesion_at_slip = 1 in summary.csv, and an FS that includes progressive
+    failure: below the limit equilibrium's 1.115 by more than the 1 % the ductile default is within."""
+    scene = yaml.safe_load(HAND_WRITTEN.read_text())
+    scene["joint_laws"]["plane"]["after_slip"] = "zero"
+    path = tmp_path / "planar_crack.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    outcome = CliRunner().invoke(main, ["fos", "--config", str(path), "--results", str(tmp_path)])
+    assert outcome.exit_code == 0, outcome.output
+    notes = [line for line in outcome.output.splitlines() if "note:" in line]
+    assert len(notes) == 1 and "'plane'" in notes[0] and "progressive" in notes[0]
+    summary = pd.read_csv(tmp_path / "fos" / "planar_crack" / "summary.csv").set_index("quantity")["value"]
+    assert summary["laws_losing_cohesion_at_slip"] == 1
+    assert summary["factor_of_safety"] < 0.99 * CASES["hoek_bray_half_full"].expected
 
 
 @pytest.mark.parametrize(

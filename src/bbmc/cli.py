@@ -258,6 +258,8 @@ def fos_command(config: str | None, results: str) -> None:
         f"bbmc fos: factor of safety {outcome.factor_of_safety:.4g}{bound}, "
         f"{len(outcome.trials)} trials, {time.perf_counter() - started:.1f} s"
     )
+    if outcome.progressive_note:
+        click.echo(f"bbmc fos: note: {outcome.progressive_note}")
     _report_written(fos_stage.NAME, out_dir, written)
 
 

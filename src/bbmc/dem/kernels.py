@@ -25,12 +25,15 @@ Rules (documented options of the scene format):
 
 * Open: an unbonded sub-contact (tensile strength 0) with u_n <= 0 carries no force.
 * Tension cut-off: a bonded sub-contact (tensile strength T > 0) may carry sigma_n down to -T; below,
-  it fails: sigma_n = tau = 0, its tensile strength becomes 0 for good and so does its cohesion, except
-  that a Barton-Bandis law with ``after_slip = keep`` re-derives the tangent cohesion at its next
-  update (that cohesion is the envelope's intercept, not a bond).
+  it fails: sigma_n = tau = 0, its tensile strength becomes 0 for good and so does its cohesion (a
+  crack that has opened does not heal), except that a Barton-Bandis law with ``after_slip = keep``
+  re-derives the tangent cohesion at its next update (that cohesion is the envelope's intercept, not
+  a bond).
 * Slip: |tau| <= c + sigma_n tan(phi); at the limit tau stays on it and the sub-contact is marked
-  slipped. With ``after_slip = zero`` (Itasca's Coulomb joint) its cohesion and tensile strength drop
-  to 0 at the first slip and stay 0, also through later law updates; with ``keep`` they are kept.
+  slipped. Its tensile strength drops to 0 at the first slip (a slipped joint is a fracture: limit
+  equilibrium counts no tension). With ``after_slip = keep`` (the default: ductile, as limit
+  equilibrium counts the cohesion of the whole plane) the cohesion is kept; with ``zero`` (Itasca's
+  Coulomb slip) it drops to 0 at the first slip and stays 0, also through later law updates.
 """
 
 import math
@@ -234,9 +237,9 @@ def _sub_contact_law(subs, s, un, dus, after_slip, divisor, dilates):
         if subs[s, SLIPPED] == 0.0:
             subs[s, SLIPPED] = 1.0
             subs[s, LAW_SN] = math.nan
+            subs[s, TEN] = 0.0
             if after_slip == AFTER_SLIP_ZERO:
                 subs[s, COH] = 0.0
-                subs[s, TEN] = 0.0
     subs[s, SN] = sn
     subs[s, TAU] = tau
     subs[s, UN] = un

@@ -60,7 +60,7 @@ STRENGTH_CONSTANT, STRENGTH_BARTON_BANDIS = 0, 1  # M-C c, phi given | tangent t
 STRENGTH_MOBILIZED = 2  # secant of the B-B strength mobilized at the sub-contact's shear path (Barton 1982)
 NORMAL_CONSTANT, NORMAL_EQ8, NORMAL_BANDIS = 0, 1, 2  # K_n given | eqs 5-8 | Bandis et al. 1983's hyperbola
 SHEAR_CONSTANT, SHEAR_BANDIS, SHEAR_CORRECTED, SHEAR_SIMPLIFIED, SHEAR_HYPERBOLIC = 0, 1, 2, 3, 4
-AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = 0, 1  # cohesion and tensile strength after slip: 0 (Itasca) | kept
+AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = 0, 1  # cohesion after slip: 0 (Itasca's Coulomb slip) | kept (ductile, default)
 
 (
     P_KN,

@@ -106,6 +106,19 @@ class Model:
         return bool(np.any(self.laws[:, :3] != 0))
 
     @property
+    def laws_losing_cohesion(self) -> list[str]:
+        """The joint laws in use (the default and the rules') that drop their cohesion at the first slip
+        (`after_slip: zero`, Itasca's Coulomb slip) and have a cohesion to lose: a Mohr-Coulomb c > 0
+        or a Barton-Bandis tangent (whose intercept is > 0 wherever sigma_n > 0)."""
+        used = sorted({self.default_law, *self.rule_law.tolist()})
+        return [
+            self.law_names[j]
+            for j in used
+            if self.laws[j, L.AFTER_SLIP] == L.AFTER_SLIP_ZERO
+            and (self.params[j, L.P_COH] > 0 or self.laws[j, L.STRENGTH_LAW] == L.STRENGTH_BARTON_BANDIS)
+        ]
+
+    @property
     def loads_applied_step(self) -> int:
         """The step from which every load acts in full and every prescribed velocity has started."""
         ends = [row[-2] + row[-1] for row in (*self.block_loads, *self.edge_loads)]

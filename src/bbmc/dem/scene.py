@@ -22,7 +22,7 @@ Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
 Steps = Annotated[int, Field(ge=0)]
 Dof = Literal["x", "y", "rotation"]
-AfterSlip = Literal["zero", "keep"]
+AfterSlip = Literal["zero", "keep"]  # keep: ductile (limit equilibrium's); zero: UDEC's Coulomb slip
 
 
 def _exactly_one(model: Section, keys: tuple[str, ...], what: str) -> None:
@@ -123,7 +123,7 @@ class ConstantLaw(Section):
     cohesion_MPa: NonNegative = 0.0
     friction_deg: Annotated[float, Field(ge=0, lt=90)]
     tensile_strength_MPa: NonNegative = 0.0
-    after_slip: AfterSlip = "zero"
+    after_slip: AfterSlip = "keep"
 
 
 class BartonBandisStrength(BartonBandisJoint):
@@ -187,7 +187,7 @@ class BartonBandisLaw(Section):
     stress_floor_MPa: Positive = 0.01  # stiffness laws are evaluated at max(sigma_n, floor)
     shear_stiffness_floor: Annotated[float, Field(ge=0, le=1)] = 0.01  # K_s >= floor K_si
     tensile_strength_MPa: NonNegative = 0.0
-    after_slip: AfterSlip = "zero"
+    after_slip: AfterSlip = "keep"
 
 
 class BandisNormal(Section):

@@ -427,6 +427,7 @@ def _summary(model: Model, state: State, stopped_by: str, warnings: list[str]) -
         ("largest_interpenetration", state.largest_overlap, "fraction of block size"),
         ("interpenetration_limit", model.scene.contacts.interpenetration_limit, "fraction of block size"),
         ("warnings", len(warnings), "1"),
+        ("laws_losing_cohesion_at_slip", len(model.laws_losing_cohesion), "1"),
     ]
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 

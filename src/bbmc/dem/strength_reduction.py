@@ -79,6 +79,18 @@ class StrengthReductionResult:
     start_world: np.ndarray  # the vertices at the start of every trial [m]
     mechanism_world: np.ndarray | None  # the vertices at the end of the lowest unstable trial [m]
     failure_displacement_m: float
+    laws_losing_cohesion: list[str]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
+
+    @property
+    def progressive_note(self) -> str:
+        """One line for a scene whose joints lose their cohesion at the first slip ("" otherwise)."""
+        if not self.laws_losing_cohesion:
+            return ""
+        names = ", ".join(f"'{name}'" for name in self.laws_losing_cohesion)
+        return (
+            f"joint law {names} loses its cohesion at the first slip (after_slip: zero, UDEC's Coulomb "
+            "slip): this FS includes progressive failure and lies below limit equilibrium's"
+        )
 
 
 def reduced_params(model: Model, factor: float, reduction: str) -> np.ndarray:
@@ -247,4 +259,5 @@ def factor_of_safety(
         start_world=equilibrium.world.copy(),
         mechanism_world=mechanism,
         failure_displacement_m=failure,
+        laws_losing_cohesion=model.laws_losing_cohesion,
     )

@@ -33,7 +33,6 @@ BARTON_BANDIS = {
     "strength": {"jrc": 5.0, "jcs_MPa": 20.0, "phi_b_deg": 30.0, "phi_max_deg": 70.0},
     "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": 10},
     "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": 10},
-    "after_slip": "keep",  # the tangent's intercept is the envelope's, not a bond lost at slip
 }
 FLAT_BLOCK = (10.0, 1.0)  # width, height [m]: sigma_n near uniform along the base
 HOEK_BRAY_LAW = {
@@ -133,7 +132,7 @@ def goodman_bray_case(friction_deg: float) -> Case:
 def cases() -> list[Case]:
     """Every verification case, in the order of the README's table."""
     dip = math.radians(DIP_DEG)
-    cohesive = {**MOHR_COULOMB, "friction_deg": 25.0, "cohesion_MPa": 0.002, "after_slip": "keep"}
+    cohesive = {**MOHR_COULOMB, "friction_deg": 25.0, "cohesion_MPa": 0.002}
     weight = DENSITY * G * 2.0 * 0.5
     closed = (2e3 * 2.0 + weight * math.cos(dip) * math.tan(math.radians(25.0))) / (weight * math.sin(dip))
     phi_b_jrc = block_on_plane(BARTON_BANDIS, *FLAT_BLOCK) | {"fos": {"barton_bandis_reduction": "phi_b_jrc"}}

@@ -34,9 +34,10 @@ Steps = Annotated[int, Field(ge=1)]
 
 
 class ConstantJoint(Section):
-    """Table 4's constant parameters (read from data/paper), and what slip does to c."""
+    """Table 4's constant parameters (read from data/paper), and what slip does to c (the scene's
+    default, ductile; configs/slope.yaml asks for 3DEC's `zero`)."""
 
-    after_slip: Literal["zero", "keep"] = "zero"
+    after_slip: Literal["zero", "keep"] = "keep"
 
 
 class BartonBandisOptions(Section):

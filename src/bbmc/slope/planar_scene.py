@@ -8,8 +8,9 @@ fixed block below it; nothing behind the crack (an open crack carries no force b
 fills the crack to z_w and leaves at the toe: the phreatic surface is the straight line from the toe
 to the crack's water level (the pressure on the plane falls linearly from gamma_w z_w at the crack's
 foot to 0 at the toe, hydrostatic in the crack, as Hoek & Bray assume). A seismic coefficient k_h
-acts out of the slope (towards -x). The plane's joint law is given; its cohesion is kept after slip
-(`after_slip: keep`), since the limit equilibrium counts the whole plane's cohesion.
+acts out of the slope (towards -x). The plane's joint law is given; with the scene's default rule its
+cohesion is kept after slip (`after_slip: keep`), as the limit equilibrium counts the whole plane's
+cohesion.
 
 Only a crack in the upper surface is built (z / H <= 1 - cot psi_f tan psi_p). Where the engine
 cannot match the limit equilibrium: the wedge is rigid and carries moments, so where the resultant
@@ -94,7 +95,7 @@ def planar_scene(name: str, slope: PlanarSlope, law: dict, solver: dict, fos: di
             },
             {"name": "wedge", "material": "rock", "polygon_m": vertices},
         ],
-        "joint_laws": {"plane": {**law, "after_slip": "keep"}},
+        "joint_laws": {"plane": law},
         "contacts": {"default_law": "plane"},
         "solver": solver,
     }

@@ -58,6 +58,7 @@ def summary_table(result: StrengthReductionResult, scene: Scene, seconds: float)
         ("unbalanced_force_ratio_limit", settings.unbalanced_force_ratio, "1"),
         ("failure_displacement", result.failure_displacement_m * 1e3, "mm"),
         ("barton_bandis_reduction_phi_b_jrc", int(settings.barton_bandis_reduction == "phi_b_jrc"), "1"),
+        ("laws_losing_cohesion_at_slip", len(result.laws_losing_cohesion), "1"),
     ]
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 
