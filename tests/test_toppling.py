@@ -129,7 +129,11 @@ INCLINE_CASES = [
     (30.0, 25.0, 1.05 * TAN[30.0]),
     (30.0, 25.0, 0.95 * TAN[30.0]),
     (30.0, 25.0, 1.05 * TAN[25.0]),
-    (30.0, 25.0, 0.95 * TAN[25.0]),
+    # (slides and topples only for 0.93 tan phi < b/h < tan phi: at 0.95 the rigid column at release
+    # asks 2 % more friction than tan phi, a margin the elastic base does not resolve: with the stress
+    # integrated over each share it topples without sliding at every count, as the sampled stresses did
+    # at 64 sub-contacts; at 0.98 (4 % more) it slides and topples at every count)
+    (30.0, 25.0, 0.98 * TAN[25.0]),
     # +-1 deg around phi = psi for a slender column (b/h = tan psi / 2)
     (25.0, 26.0, 0.5 * TAN[25.0]),
     (25.0, 24.0, 0.5 * TAN[25.0]),
@@ -143,10 +147,11 @@ def test_column_on_an_incline_in_each_regime(tmp_path, dip, friction, width_over
     release (`onset_regime`). That is the chart's regime except where psi > phi and b/h < tan psi: a
     column with tan phi < b/h < tan psi slides without toppling (its sliding base's reaction leans at
     phi), and a slender one topples without sliding (turning, it asks less friction of its base than
-    the slope's tan psi). No block goes 1 % of its size into the base."""
+    the slope's tan psi). No block goes further into the base than a corner that strikes a face
+    (`CORNER_PENETRATION`: the toppled columns fall on their corners)."""
     result = run_scene(tmp_path, column_on_incline(width_over_height, 1.0, dip, friction))
     assert incline_regime(result) == onset_regime(width_over_height, dip, friction)
-    assert _summary(result)["largest_interpenetration"] < 0.01
+    assert _summary(result)["largest_interpenetration"] < CORNER_PENETRATION
 
 
 def test_the_chart_and_the_equations_at_release_differ_only_where_psi_exceeds_phi():
@@ -216,10 +221,18 @@ def rocking_block(half_width: float, half_height: float, tilt_deg: float) -> dic
 @pytest.mark.parametrize("tilt_over_alpha", [0.3, 0.8])
 def test_rocking_block_falls_back_flat_at_housners_time(tmp_path, tilt_over_alpha):
     """A 0.4 m x 1 m block (alpha = 21.8 deg) released from a tilt on its corner is flat again at the
-    time the rocking equation gives, within 1 %."""
+    time the rigid-block rocking equation gives, within 1 %, on a base of K_n = 100 MPa/mm (measured:
+    +0.39 % at 0.8 alpha). The rigid block turns about its corner point; on elastic joints the corner
+    sinks into a triangle of closure ~sqrt(2 W tan(tilt) / K_n) long, and the reaction acts at its
+    centroid, a third of it inside the corner: the overturning arm shrinks by that, and the fall slows
+    by as much (+1.19 % at 10 MPa/mm, +0.39 % at 100, +0.13 % at 1000: as K_n^-1/2, at every count of
+    sub-contacts). Sampled stresses put a whole sub-contact at the corner itself and met the rigid
+    time (-0.02 %) only by that placement."""
     b, h = 0.2, 0.5
     tilt = tilt_over_alpha * math.atan2(b, h)
-    result = run_scene(tmp_path, rocking_block(b, h, math.degrees(tilt)))
+    scene = rocking_block(b, h, math.degrees(tilt))
+    scene["joint_laws"]["joint"].update(kn_MPa_per_mm=100.0, ks_MPa_per_mm=100.0)
+    result = run_scene(tmp_path, scene)
     history = result.history
     remaining = math.degrees(tilt) - history["rot_deg"].to_numpy()  # tilt left about the corner
     t = history["time_s"].to_numpy()
@@ -230,6 +243,15 @@ def test_rocking_block_falls_back_flat_at_housners_time(tmp_path, tilt_over_alph
     summary = _summary(result)
     assert summary["largest_interpenetration"] < 0.01
     assert math.isfinite(summary["time_step_min"])
+
+
+# How far a corner that strikes a face goes in, as a fraction of the block's size. The stress over a
+# corner's closed triangle is integrated exactly, so a corner is a soft, Hertz-like contact: it stores
+# K_n d^3 / (6 tan a) per metre (a the edge's angle on the face) and a drop of energy E goes d =
+# (6 tan a E / K_n)^(1/3) deep: for the square (E = m g 0.2 m, a = 30 deg, 10 MPa/mm) 7.5 mm, 1.5 %
+# (measured: 1.68 %, the same at every count of sub-contacts). Sampled stresses put a whole
+# sub-contact at the corner and stopped it sooner the fewer there were: 0.32 % at 4, 1.38 % at 64.
+CORNER_PENETRATION = 0.02
 
 
 def dropped_square(friction_deg: float, damping: float, seconds: float) -> dict:
@@ -261,10 +283,12 @@ def dropped_square(friction_deg: float, damping: float, seconds: float) -> dict:
 def test_square_dropped_corner_first_never_gains_energy(tmp_path):
     """Undamped and frictionless, the square bounces on its corners for 2 s. Between impacts (no
     strain energy) its total energy (kinetic + potential) never rises above its start by more than
-    0.5 % of the largest kinetic energy: an explicit contact that closes and opens within a step adds
-    or takes a little at each impact (during one, the leapfrog's kinetic and strain energies are read
-    half a step apart, so only the energy between impacts is compared). In free fall before the first
-    impact its speed grows at g within 0.1 %."""
+    0.5 % of the largest kinetic energy (measured: 0.0008 %, the contact's forces being the gradient
+    of its strain energy; with sampled stresses 0.23 % at 4 sub-contacts, 0.52 % at 64): an explicit
+    contact that closes and opens within a step adds or takes a little at each impact (during one, the
+    leapfrog's kinetic and strain energies are read half a step apart, so only the energy between
+    impacts is compared). In free fall before the first impact its speed grows at g within 0.1 %.
+    The corner goes at most 2 % of the square's size into the base (`CORNER_PENETRATION`)."""
     result = run_scene(tmp_path, dropped_square(0.0, 0.0, 2.0))
     h = result.history
     free = h[h["se_J"] == 0.0]
@@ -272,7 +296,7 @@ def test_square_dropped_corner_first_never_gains_energy(tmp_path):
     assert total.max() - total.iloc[0] < 5e-3 * h["ke_J"].max()
     falling = h[(h["time_s"] > 0.05) & (h["time_s"] < 0.15)]
     assert -np.polyfit(falling["time_s"], falling["vy_m_s"], 1)[0] == pytest.approx(G, rel=1e-3)
-    assert _summary(result)["largest_interpenetration"] < 0.01
+    assert _summary(result)["largest_interpenetration"] < CORNER_PENETRATION
 
 
 def test_square_dropped_corner_first_comes_to_rest_on_a_face(tmp_path):
@@ -284,7 +308,7 @@ def test_square_dropped_corner_first_comes_to_rest_on_a_face(tmp_path):
     final = h["rot_deg"].iloc[-1] + 30.0
     assert abs(final - 90.0 * round(final / 90.0)) < 0.1
     assert h["ke_J"].iloc[-1] < 1e-6 * h["ke_J"].max()
-    assert _summary(result)["largest_interpenetration"] < 0.01
+    assert _summary(result)["largest_interpenetration"] < CORNER_PENETRATION
 
 
 def _frame_normal(world: np.ndarray) -> tuple[bool, float]:

@@ -46,6 +46,7 @@ from bbmc.dem.layout import (
     AFTER_SLIP_ZERO,
     BLOCK_A,
     BLOCK_B,
+    CLOSED,
     COH,
     CORNER_ROUNDING,
     CX,
@@ -193,43 +194,86 @@ def edge_frame(world, vertex_next, e):
 def _open(subs, s):
     subs[s, SN] = 0.0
     subs[s, TAU] = 0.0
+    subs[s, CLOSED] = 0.0
 
 
 @numba.njit(cache=True)
-def _sub_contact_law(subs, s, un, dus, after_slip, divisor, dilates):
-    """Incremental force-displacement law of one sub-contact (module docstring), in place; its shear and
-    tensile strengths divided by `divisor` (strength reduction; 1 otherwise). While it carries normal
-    stress it accumulates its shear path |d u_s|, and its dilation tan(d_mob) d|u_s|: the asperities
-    ride up as the joint moves away from where it started and down as it moves back (never below 0),
-    so the law sees the geometric overlap u_n plus the dilation so far (`dilates`: the law has any;
-    the others skip its work). Under a constant normal load the blocks move apart by it; held at their
-    distance, the joint's sigma_n rises by K_n per unit of dilation."""
-    if subs[s, SN] > 0.0:
+def _normal_share(subs, s, u_mid, slope, half, divisor):
+    """The normal stress over one sub-contact's share of the overlap, integrated exactly, in place.
+
+    The share runs xi in [-half, half] about its middle; for rigid blocks its closure is linear, u(xi) =
+    u_mid + slope xi [m], and so is the stress of the sub-contact's linear law at its current K_n,
+    sigma(xi) = K_n (u(xi) - u_0), u_0 its stress-free closure: u_0 = UN - SN / K_n from the last step
+    (SN the mean stress over the closed part, UN the closure there), so that a K_n changed by a law
+    update keeps that mean (incremental integration at the closed part's centroid, eq 5's way), or
+    max(UN, 0) for an unbonded share that was open (closing starts from contact). An unbonded share
+    carries no tension: sigma = max(sigma(xi), 0), closed over [lo, hi] (part of it where one end is
+    open); a bonded one (T > 0) carries the whole linear stress and fails in tension once its mean is
+    below -T / divisor.
+
+    Returns (closed fraction, mean sigma_n over the closed part [Pa], the closed part's middle xi_c
+    [m], couple [N m per m]), the fraction -1 when the bond broke in this step. The normal force acts at
+    xi_c with that couple on block A and its opposite on B: the stress's first moment about xi_c,
+    (hi - lo)^2 (sigma_hi - sigma_lo) / 12, less slope x the share's strain energy, integral of
+    sigma^2 / 2 K_n. The energy term is the work of the common line turning with a block whose edge is
+    tilted on it (a corner on a face): with it the contact's forces are the gradient of its strain
+    energy (checked by finite differences in the tests), so a corner that strikes a face neither gains
+    nor loses energy by it."""
+    kn = subs[s, KN]
+    bonded = subs[s, TEN] > 0.0
+    u0 = subs[s, UN] - subs[s, SN] / kn if bonded or subs[s, SN] > 0.0 else max(subs[s, UN], 0.0)
+    middle = kn * (u_mid - u0)
+    grad = kn * slope
+    lo, hi = -half, half
+    s_lo, s_hi = middle - grad * half, middle + grad * half
+    if bonded:
+        if middle < -subs[s, TEN] / divisor:
+            subs[s, UN] = u_mid + abs(slope) * half
+            return -1.0, 0.0, 0.0, 0.0
+    elif s_lo <= 0.0 and s_hi <= 0.0:
+        subs[s, UN] = u_mid + abs(slope) * half  # the share's largest closure (smallest gap)
+        return 0.0, 0.0, 0.0, 0.0
+    elif s_lo < 0.0:
+        lo, s_lo = -middle / grad, 0.0
+    elif s_hi < 0.0:
+        hi, s_hi = -middle / grad, 0.0
+    mean = 0.5 * (s_lo + s_hi)
+    subs[s, UN] = u0 + mean / kn
+    closed = hi - lo
+    energy = closed * (s_lo * s_lo + s_lo * s_hi + s_hi * s_hi) / (6.0 * kn)
+    couple = closed * closed * (s_hi - s_lo) / 12.0 - slope * energy
+    return closed / (2.0 * half), mean, 0.5 * (lo + hi), couple
+
+
+@numba.njit(cache=True)
+def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates):
+    """The shear of one sub-contact's share (module docstring), in place, after its normal stress
+    (`_normal_share`: closed fraction `closed`, mean sigma_n `sn` over the closed part); its shear and
+    tensile strengths divided by `divisor` (strength reduction; 1 otherwise).
+
+    TAU is the mean shear stress over the closed part, d tau = K_s d u_s, d u_s the relative shear
+    displacement at the closed part's middle (the mean over it); |tau| <= c + sigma_n tan(phi) (exact
+    for the share's resultant, Mohr-Coulomb being linear in sigma_n). Slip state, cohesion loss, shear
+    displacement and path are stored once per share: a part that closes takes on the share's tau.
+
+    While it carried normal stress (`was_closed`) it accumulates its shear path |d u_s|, and its
+    dilation tan(d_mob) d|u_s|: the asperities ride up as the joint moves away from where it started
+    and down as it moves back (never below 0); the law sees the geometric closure plus the dilation so
+    far, from the next step (`dilates`: the law has any; the others skip its work)."""
+    if was_closed:
         subs[s, PATH] += abs(dus)
         if dilates:
             away = abs(subs[s, US] + dus) - abs(subs[s, US])
             subs[s, DILATION] = max(subs[s, DILATION] + subs[s, TAN_DILATION] * away, 0.0)
-    if dilates:
-        un += subs[s, DILATION]
-    bonded = subs[s, TEN] > 0.0
-    if bonded:
-        sn = subs[s, SN] + subs[s, KN] * (un - subs[s, UN])
-        if sn < -subs[s, TEN] / divisor:
-            _open(subs, s)
+    subs[s, US] += dus
+    if closed <= 0.0:
+        _open(subs, s)
+        if closed < 0.0:  # the bond broke in tension: a crack that has opened does not heal
             subs[s, TEN] = 0.0
             subs[s, COH] = 0.0
             subs[s, SLIPPED] = 1.0
             subs[s, LAW_SN] = math.nan
-            subs[s, UN] = un
-            subs[s, US] += dus
-            return
-    else:
-        if un <= 0.0:
-            _open(subs, s)
-            subs[s, UN] = un
-            subs[s, US] += dus
-            return
-        sn = max(subs[s, SN] + subs[s, KN] * (un - max(subs[s, UN], 0.0)), 0.0)
+        return
     tau = subs[s, TAU] + subs[s, KS] * dus
     strength = max(subs[s, COH] + sn * subs[s, TANPHI], 0.0) / divisor
     if abs(tau) > strength:
@@ -242,8 +286,7 @@ def _sub_contact_law(subs, s, un, dus, after_slip, divisor, dilates):
                 subs[s, COH] = 0.0
     subs[s, SN] = sn
     subs[s, TAU] = tau
-    subs[s, UN] = un
-    subs[s, US] += dus
+    subs[s, CLOSED] = closed
 
 
 @numba.njit(cache=True)
@@ -323,18 +366,10 @@ def contact_frame(world, vertex_next, ea, eb, size, a, b):
 
 
 @numba.njit(cache=True)
-def sub_contact_place(k, n_sub):
-    """Where sub-contact k of n_sub sits on a contact's overlap and the length it carries, both as
-    fractions of the overlap [1].
-
-    The trapezoidal rule: n_sub points evenly from one end of the overlap to the other, the two end
-    points at the ends themselves (a corner, where a block turns about it), carrying half the spacing,
-    the inner ones the whole spacing; the lengths add up to the overlap. A single sub-contact sits at
-    the middle and carries the whole overlap (it cannot carry a moment)."""
-    if n_sub == 1:
-        return 0.5, 1.0
-    spacing = 1.0 / (n_sub - 1)
-    return k * spacing, 0.5 * spacing if k == 0 or k == n_sub - 1 else spacing
+def share_middle(k, n_sub):
+    """The middle of sub-contact k's share of a contact's overlap, as a fraction of the overlap [1]: the
+    overlap is cut into n_sub equal shares, each integrated exactly (`_normal_share`)."""
+    return (k + 0.5) / n_sub
 
 
 @numba.njit(cache=True)
@@ -342,9 +377,12 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
     """Update every sub-contact's stresses and add the contact forces and moments to the blocks.
 
     Each contact's common line comes from `contact_frame`; a contact whose edges no longer face each
-    other or no longer overlap in projection is inactive: zero length, zero stresses. A sub-contact's
-    overlap u_n is the distance along the normal between the two edges at its place on the common line
-    (> 0 closed); it sits midway between them.
+    other or no longer overlap in projection is inactive: zero length, zero stresses. Its overlap is cut
+    into n_sub equal shares; the closure u_n (> 0 closed), the distance along the normal between the two
+    edges, is linear along each (rigid blocks). A share's normal force is its stress integrated exactly
+    (`_normal_share`), applied at the share's middle, midway between the edges, with the stress's first
+    moment about it (so in effect at the stress's centroid); its shear force acts there too (along the
+    line its moment does not depend on where it acts).
     """
     size = blocks[:, SIZE]
     for c in range(contacts.shape[0]):
@@ -361,30 +399,38 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
         after_slip = laws[contacts[c, JOINT_TYPE], AFTER_SLIP]
         divisor = params[contacts[c, JOINT_TYPE], P_STRENGTH_DIVISOR]
         dilates = laws[contacts[c, JOINT_TYPE], STRENGTH_LAW] == STRENGTH_MOBILIZED
+        length = (hi - lo) / n_sub
+        slope = ((a_hi - b_hi) - (a_lo - b_lo)) / (hi - lo)
         for k in range(n_sub):
             s = first + k
-            f, share = sub_contact_place(k, n_sub)
-            along, length = lo + f * (hi - lo), share * (hi - lo)
-            h_a = a_lo + f * (a_hi - a_lo)
-            h_b = b_lo + f * (b_hi - b_lo)
-            middle = 0.5 * (h_a + h_b)
+            f = share_middle(k, n_sub)
+            u_mid = (a_lo - b_lo) + f * ((a_hi - b_hi) - (a_lo - b_lo))
+            if dilates:
+                u_mid += subs[s, DILATION]
+            was_closed = subs[s, SN] > 0.0
+            closed, sn, centre, couple = _normal_share(subs, s, u_mid, slope, 0.5 * length, divisor)
+            f += centre / (hi - lo)  # the closed part's middle, where the share's forces act
+            along = lo + f * (hi - lo)
+            middle = 0.5 * (a_lo + b_lo + f * ((a_hi - a_lo) + (b_hi - b_lo)))
             cx, cy = along * tx + middle * nx, along * ty + middle * ny
             rax, ray = cx - blocks[a, X], cy - blocks[a, Y]
             rbx, rby = cx - blocks[b, X], cy - blocks[b, Y]
             dvx = (blocks[b, VX] - blocks[b, W] * rby) - (blocks[a, VX] - blocks[a, W] * ray)
             dvy = (blocks[b, VY] + blocks[b, W] * rbx) - (blocks[a, VY] + blocks[a, W] * rax)
-            _sub_contact_law(subs, s, h_a - h_b, (dvx * tx + dvy * ty) * dt, after_slip, divisor, dilates)
+            dus = (dvx * tx + dvy * ty) * dt
+            _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates)
             subs[s, LENGTH] = length
             subs[s, CX] = cx
             subs[s, CY] = cy
-            fx = length * (subs[s, SN] * nx - subs[s, TAU] * tx)
-            fy = length * (subs[s, SN] * ny - subs[s, TAU] * ty)
+            carried = length * subs[s, CLOSED]
+            fx = carried * (subs[s, SN] * nx - subs[s, TAU] * tx)
+            fy = carried * (subs[s, SN] * ny - subs[s, TAU] * ty)
             blocks[b, FX] += fx
             blocks[b, FY] += fy
-            blocks[b, FM] += rbx * fy - rby * fx
+            blocks[b, FM] += rbx * fy - rby * fx - couple
             blocks[a, FX] -= fx
             blocks[a, FY] -= fy
-            blocks[a, FM] -= rax * fy - ray * fx
+            blocks[a, FM] -= rax * fy - ray * fx - couple
 
 
 @numba.njit(cache=True)
@@ -600,10 +646,13 @@ def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
 def stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, symmetric, rows):
     """Gershgorin row sums of the assembled contact stiffness, per block and degree of freedom.
 
-    Each sub-contact adds, for its normal (K_n) and shear (K_s) direction d, the rank-one stiffness
-    k g g^T with k = K L and g = (-d, -r_A x d | d, r_B x d) over the free degrees of freedom of A and
-    B. `symmetric`: rows of M^-1/2 K M^-1/2 (their maximum bounds the largest squared frequency);
-    else rows of |K| itself (used to choose scaled masses). Prescribed degrees of freedom are left out.
+    Each share of an active contact (open or closed: it may close before the next evaluation) adds, for
+    its normal (K_n) and shear (K_s) direction d, the rank-one stiffness k g g^T with k = K L (L the
+    share's length) and g = (-d, -r_A x d | d, r_B x d) at the share's middle, and for the normal
+    stress's first moment the rotational stiffness K_n L^3 / 12 with g = (0, 0, 1 | 0, 0, -1): together
+    the exact stiffness of a uniform spring bed along the share. `symmetric`: rows of M^-1/2 K M^-1/2
+    (their maximum bounds the largest squared frequency); else rows of |K| itself (used to choose
+    scaled masses). Prescribed degrees of freedom are left out.
     """
     rows[:] = 0.0
     size = blocks[:, SIZE]
@@ -613,7 +662,7 @@ def stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, s
     gb = np.zeros(3)
     for c in range(contacts.shape[0]):
         a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
-        active, nx, ny, _, _, _, _, _, _ = contact_frame(
+        active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(
             world, vertex_next, contacts[c, EDGE_A], contacts[c, EDGE_B], size, a, b
         )
         if not active:
@@ -621,21 +670,34 @@ def stiffness_row_sums(blocks, dof, world, vertex_next, contacts, subs, n_sub, s
         for d in range(3):
             scale_a[d] = _row_scale(blocks, dof, a, d, symmetric)
             scale_b[d] = _row_scale(blocks, dof, b, d, symmetric)
-        for s in range(c * n_sub, (c + 1) * n_sub):
-            length = subs[s, LENGTH]
-            if length <= 0.0:
-                continue
-            rax, ray = subs[s, CX] - blocks[a, X], subs[s, CY] - blocks[a, Y]
-            rbx, rby = subs[s, CX] - blocks[b, X], subs[s, CY] - blocks[b, Y]
-            for dx, dy, k in ((nx, ny, subs[s, KN]), (-ny, nx, subs[s, KS])):
+        length = (hi - lo) / n_sub
+        tx, ty = -ny, nx
+        for k in range(n_sub):
+            s = c * n_sub + k
+            f = share_middle(k, n_sub)
+            along = lo + f * (hi - lo)
+            middle = 0.5 * (a_lo + f * (a_hi - a_lo) + b_lo + f * (b_hi - b_lo))
+            cx, cy = along * tx + middle * nx, along * ty + middle * ny
+            rax, ray = cx - blocks[a, X], cy - blocks[a, Y]
+            rbx, rby = cx - blocks[b, X], cy - blocks[b, Y]
+            for dx, dy, k_d in ((nx, ny, subs[s, KN] * length), (tx, ty, subs[s, KS] * length)):
                 ga[0], ga[1], ga[2] = -dx, -dy, -(rax * dy - ray * dx)
                 gb[0], gb[1], gb[2] = dx, dy, rbx * dy - rby * dx
-                total = 0.0
-                for d in range(3):
-                    total += abs(ga[d]) * scale_a[d] + abs(gb[d]) * scale_b[d]
-                for d in range(3):
-                    rows[a, d] += k * length * abs(ga[d]) * scale_a[d] * total
-                    rows[b, d] += k * length * abs(gb[d]) * scale_b[d] * total
+                _add_rank_one(rows, a, b, ga, gb, scale_a, scale_b, k_d)
+            ga[0], ga[1], ga[2] = 0.0, 0.0, 1.0
+            gb[0], gb[1], gb[2] = 0.0, 0.0, -1.0
+            _add_rank_one(rows, a, b, ga, gb, scale_a, scale_b, subs[s, KN] * length**3 / 12.0)
+
+
+@numba.njit(cache=True)
+def _add_rank_one(rows, a, b, ga, gb, scale_a, scale_b, k):
+    """Add the absolute row sums of the scaled rank-one stiffness k g g^T (g = (ga | gb)) to rows."""
+    total = 0.0
+    for d in range(3):
+        total += abs(ga[d]) * scale_a[d] + abs(gb[d]) * scale_b[d]
+    for d in range(3):
+        rows[a, d] += k * abs(ga[d]) * scale_a[d] * total
+        rows[b, d] += k * abs(gb[d]) * scale_b[d] * total
 
 
 @numba.njit(cache=True)

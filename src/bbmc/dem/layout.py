@@ -32,11 +32,12 @@ JOINT_TYPE = 4
 CONTACT_COLUMNS = 5
 
 # --- sub-contacts: float64 (n_contacts * n_sub, SUB_COLUMNS) ---------------------------------------
-SN, TAU = 0, 1  # normal stress (compression > 0) and shear stress on block A [Pa]
-UN, US = 2, 3  # overlap at the last step (> 0 closed) and accumulated shear displacement of B on A [m]
+SN, TAU = 0, 1  # mean normal (compression > 0) and shear stress on block A over the closed part [Pa]
+UN = 2  # closure at the last step (> 0 closed) [m]: the closed part's mean; an open share's largest
+US = 3  # accumulated shear displacement of B on A [m]
 KN, KS = 4, 5  # current normal and shear stiffness [Pa/m]
 COH, TANPHI, TEN = 6, 7, 8  # cohesion [Pa], tan(friction angle) [1], tensile strength [Pa]
-LENGTH = 9  # contact length carried by this sub-contact [m]
+LENGTH = 9  # length of this sub-contact's share of the contact's overlap [m] (0: contact inactive)
 SLIPPED = 10  # 1 once the sub-contact has slipped (or failed in tension)
 CX, CY = 11, 12  # position [m]
 LAW_SN, LAW_TAU = (
@@ -47,7 +48,8 @@ PATH = 15  # shear displacement path length while closed, sum of |d u_s| [m] (da
 DILATION = 16  # normal opening by dilation so far [m]; the law's closure is u_n + DILATION
 TAN_DILATION = 17  # tan of the mobilized dilation angle at the last law update [1]
 LAW_PATH = 18  # PATH when the joint laws were last evaluated [m]
-SUB_COLUMNS = 19
+CLOSED = 19  # fraction of the share that is closed (carries stress) [1]
+SUB_COLUMNS = 20
 
 # corners are rounded over this fraction of the smaller block's size: within it of each other, two
 # corners in contact turn the normal gradually from one face's to the other's (`kernels.contact_frame`)
@@ -60,7 +62,10 @@ STRENGTH_CONSTANT, STRENGTH_BARTON_BANDIS = 0, 1  # M-C c, phi given | tangent t
 STRENGTH_MOBILIZED = 2  # secant of the B-B strength mobilized at the sub-contact's shear path (Barton 1982)
 NORMAL_CONSTANT, NORMAL_EQ8, NORMAL_BANDIS = 0, 1, 2  # K_n given | eqs 5-8 | Bandis et al. 1983's hyperbola
 SHEAR_CONSTANT, SHEAR_BANDIS, SHEAR_CORRECTED, SHEAR_SIMPLIFIED, SHEAR_HYPERBOLIC = 0, 1, 2, 3, 4
-AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = 0, 1  # cohesion after slip: 0 (Itasca's Coulomb slip) | kept (ductile, default)
+AFTER_SLIP_ZERO, AFTER_SLIP_KEEP = (
+    0,
+    1,
+)  # cohesion after slip: 0 (Itasca's Coulomb slip) | kept (ductile, default)
 
 (
     P_KN,

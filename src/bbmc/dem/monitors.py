@@ -16,6 +16,7 @@ import pandas as pd
 
 from bbmc import units
 from bbmc.dem import layout as L
+from bbmc.dem.kernels import contact_frame
 from bbmc.dem.model import Model, MonitorSpec
 from bbmc.dem.scene import JOINT_QUANTITIES
 
@@ -85,21 +86,42 @@ def potential_energy(blocks: np.ndarray, gravity: np.ndarray, dt: float) -> floa
     return -float(np.sum(blocks[:, L.MASS] * (lift @ gravity)))
 
 
-def strain_energy(subs: np.ndarray) -> float:
-    """Elastic energy stored in the joints at the last force evaluation, sum L (sigma_n^2 / 2 K_n +
-    tau^2 / 2 K_s) [J per m]; exact for constant stiffness (a stress-dependent law stores a different
-    amount)."""
-    s = subs[subs[:, L.LENGTH] > 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        normal = np.where(s[:, L.KN] > 0, s[:, L.SN] ** 2 / (2 * s[:, L.KN]), 0.0)
-        shear = np.where(s[:, L.KS] > 0, s[:, L.TAU] ** 2 / (2 * s[:, L.KS]), 0.0)
-    return float(np.sum(s[:, L.LENGTH] * (normal + shear)))
+@numba.njit(cache=True)
+def strain_energy(blocks, world, vertex_next, contacts, subs, n_sub):
+    """Elastic energy stored in the joints [J per m]: over each share's closed part (length L_c) of
+    linear normal stress, mean sigma_n and gradient g = K_n du/dxi, the integral of sigma^2 / 2 K_n is
+    L_c (sigma_n^2 + g^2 L_c^2 / 12) / 2 K_n; the shear's L_c tau^2 / 2 K_s. The stresses are those of
+    the last force evaluation, the gradient from the current positions (one step later). Exact for
+    constant stiffness (a stress-dependent law stores a different amount)."""
+    size = blocks[:, L.SIZE]
+    total = 0.0
+    for c in range(contacts.shape[0]):
+        a, b = contacts[c, L.BLOCK_A], contacts[c, L.BLOCK_B]
+        active, _, _, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(
+            world, vertex_next, contacts[c, L.EDGE_A], contacts[c, L.EDGE_B], size, a, b
+        )
+        if not active:
+            continue
+        slope = ((a_hi - b_hi) - (a_lo - b_lo)) / (hi - lo)
+        for s in range(c * n_sub, (c + 1) * n_sub):
+            closed = subs[s, L.LENGTH] * subs[s, L.CLOSED]
+            if closed <= 0.0:
+                continue
+            kn, ks = subs[s, L.KN], subs[s, L.KS]
+            gradient = kn * slope
+            total += closed * (subs[s, L.SN] ** 2 + (gradient * closed) ** 2 / 12.0) / (2.0 * kn)
+            if ks > 0.0:
+                total += closed * subs[s, L.TAU] ** 2 / (2.0 * ks)
+    return total
 
 
 @numba.njit(cache=True)
 def _sub_value(subs, s, column):
+    """Column `column` of sub-contact s; its stresses as their share's mean (open parts carry 0)."""
     if column == FRICTION:
         return math.degrees(math.atan(subs[s, L.TANPHI]))
+    if column == L.SN or column == L.TAU:
+        return subs[s, column] * subs[s, L.CLOSED]
     return subs[s, column]
 
 
@@ -200,14 +222,16 @@ def _block_or_system_value(spec: MonitorSpec, model: Model, state, reference_for
     if q == "potential_energy":
         return thickness * potential_energy(b, model.gravity, state.clock[L.DT] if state.step else 0.0)
     if q == "strain_energy":
-        return thickness * strain_energy(state.subs)
+        return thickness * strain_energy(
+            b, state.world, model.vertex_next, state.contacts, state.subs, state.n_sub
+        )
     return unbalanced_force_ratio(state, reference_force)
 
 
 def reference_force(model: Model) -> float:
     """The force scale of the unbalanced-force ratio [N per m]: the largest weight of a block free to
-    translate, block force or edge load."""
-    free = np.any(model.dof[:, :2] == L.FREE, axis=1)
+    move, block force or edge load."""
+    free = np.any(model.dof == L.FREE, axis=1)
     weights = model.blocks[free, L.MASS] * float(np.hypot(*model.gravity))
     forces = np.hypot(model.block_loads[:, 0], model.block_loads[:, 1])
     edges = np.abs(model.edge_loads[:, :2]).sum(axis=1) * _edge_lengths(model)
@@ -222,10 +246,16 @@ def _edge_lengths(model: Model) -> np.ndarray:
 
 
 def unbalanced_force_ratio(state, reference: float) -> float:
-    """Largest out-of-balance force on a block's free translation over the reference force [1]."""
-    free = state.dof[:, :2] == L.FREE
-    force = np.where(free, state.blocks[:, [L.FX, L.FY]], 0.0)
-    return float(np.max(np.hypot(force[:, 0], force[:, 1]), initial=0.0)) / reference
+    """The largest out-of-balance force or moment on a block's free degrees of freedom over the
+    reference force [1]: a moment M counts as the force M / R that makes it at the block's radius R
+    (its farthest vertex from the centroid), so the reference moment of a block is the reference force
+    times its radius. A block free only to rotate is judged by its moment alone."""
+    b = state.blocks
+    free = state.dof == L.FREE
+    force = np.where(free[:, :2], b[:, [L.FX, L.FY]], 0.0)
+    moment = np.where(free[:, 2], np.abs(b[:, L.FM]) / b[:, L.RADIUS], 0.0)
+    largest = np.maximum(np.hypot(force[:, 0], force[:, 1]), moment)
+    return float(np.max(largest, initial=0.0)) / reference
 
 
 def block_table(model: Model, blocks: np.ndarray) -> pd.DataFrame:
@@ -259,6 +289,7 @@ def contact_table(model: Model, contacts: np.ndarray, subs: np.ndarray, n_sub: i
             "x_m": subs[:, L.CX],
             "y_m": subs[:, L.CY],
             "length_m": subs[:, L.LENGTH],
+            "closed_fraction": subs[:, L.CLOSED],
             "sigma_n_MPa": subs[:, L.SN] / units.MPa,
             "tau_MPa": subs[:, L.TAU] / units.MPa,
             "kn_MPa_per_mm": subs[:, L.KN] / units.MPa_per_mm,
