@@ -285,6 +285,46 @@ def test_equilibrium_stop_waits_until_every_load_acts_in_full(tmp_path):
     assert 5000 <= summary["steps"] < 20_000
 
 
+def test_a_block_out_of_moment_balance_is_not_settled(tmp_path):
+    """A block held in x and y but free to turn, under a moment of 1 kN m: its forces balance, its
+    moment does not. The unbalanced-force ratio counts the moment (as the force that makes it at the
+    block's radius), so the equilibrium stop never fires and the block turns; the same block without
+    the moment stops at once. (Before, a block free only to turn was left out of the ratio.)"""
+    scene = block_on_base(0.0, constant_joint(30.0), steps=2000, every=100, gravity=(0.0, 0.0))
+    scene["blocks"][1]["fix"] = ["x", "y"]
+    scene["blocks"][1]["rectangle_m"]["y_m"] = 0.1  # clear of the base: nothing resists the turning
+    scene["solver"]["time_step"] = {"step_s": 1e-4}
+    scene["solver"]["stop"] = {"unbalanced_force_ratio": 1e-3}
+    turning = edited(scene, **{"loads": {"block_forces": [{"block": "slider", "moment_kN_m": 1.0}]}})
+    for run, expected in ((turning, 0), (scene, 1)):
+        result = run_scene(tmp_path, run)
+        summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
+        assert summary["stopped_by_equilibrium"] == expected
+    assert abs(run_scene(tmp_path, turning).history["rot_deg"].iloc[-1]) > 1.0
+
+
+def test_the_trend_of_the_motion_ends_a_creep_and_a_run_coming_to_rest(tmp_path):
+    """stop.trend_window_steps (`bbmc.dem.verdict`): a block sliding steadily down a 40-degree,
+    20-degree-friction incline under heavy damping is called a creep long before it has moved the
+    failure displacement; the same block on a 45-degree-friction joint settles and is called coming to
+    rest (or in equilibrium) well before the step limit."""
+    for friction, reasons in ((20.0, {"creep", "projected"}), (45.0, {"decaying", "equilibrium"})):
+        scene = block_on_base(40.0, constant_joint(friction), steps=200_000, every=100, gap_m=-1e-6)
+        scene["solver"]["damping"] = 0.8
+        scene["solver"]["stop"] = {
+            "displacement_m": 1.0,
+            "unbalanced_force_ratio": 1e-9,
+            "trend_window_steps": 1000,
+        }
+        result = run_scene(tmp_path, scene)
+        summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
+        stopped = {reason for reason in reasons if summary.get(f"stopped_by_{reason}")}
+        assert stopped, (friction, summary)
+        assert summary["steps"] < 200_000
+        moved = np.hypot(result.history["ux_mm"].iloc[-1], result.history["uy_mm"].iloc[-1])
+        assert moved < 1000.0
+
+
 def test_displacement_stop_ends_a_sliding_run(tmp_path):
     """stop.displacement_m: a block sliding down a 40-degree, 20-degree-friction incline stops the
     run once it has moved 5 mm, long before the step limit."""

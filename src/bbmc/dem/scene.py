@@ -299,18 +299,24 @@ class TimeStep(Section):
 
 class Stop(Section):
     """Stop once the loads act in full (and prescribed velocities have started) and the unbalanced
-    force ratio (max unbalanced force / max applied force) is below `unbalanced_force_ratio`, or once
-    a block that can move has moved further than `displacement_m` from where it started; whichever
-    comes first; or once the run has lasted `time_s` of physical time (checked at record steps)."""
+    force ratio (max unbalanced force or moment / max applied force) is below
+    `unbalanced_force_ratio`, or once a block that can move has moved further than `displacement_m`
+    from where it started; whichever comes first; or once the run has lasted `time_s` of physical
+    time; or, with `trend_window_steps`, once the trend of the motion over windows of that many steps
+    says it is coming to rest or failing (`bbmc.dem.verdict`; needs displacement_m). Checked at record
+    steps."""
 
     unbalanced_force_ratio: Positive | None = None
     displacement_m: Positive | None = None
     time_s: Positive | None = None
+    trend_window_steps: Annotated[int, Field(ge=1)] | None = None
 
     @model_validator(mode="after")
     def _one_given(self) -> Stop:
         if self.unbalanced_force_ratio is None and self.displacement_m is None and self.time_s is None:
             raise ValueError("give unbalanced_force_ratio, displacement_m and/or time_s")
+        if self.trend_window_steps is not None and self.displacement_m is None:
+            raise ValueError("trend_window_steps needs displacement_m (the failure displacement)")
         return self
 
 

@@ -23,6 +23,7 @@ from bbmc.dem import monitors as mon
 from bbmc.dem.detection import candidate_pairs, facing_edges, vertex_penetration
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
+from bbmc.dem.verdict import Trend
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
 RUNAWAY_FRACTION = 0.1  # a block moving this fraction of its size in one step: the run is lost (an
@@ -353,6 +354,7 @@ def simulate(
     if on_record:
         on_record(state)
     stopped_by = ""
+    trend = _Watch.of(model, state)
     while state.step < solver.steps and not stopped_by:
         before = state.step
         advance(model, state, min(every - state.step % every, solver.steps - state.step))
@@ -362,7 +364,7 @@ def simulate(
         records.append(_record(model, state, reference, joints))
         if on_record:
             on_record(state)
-        stopped_by = _stop_reason(model, state, reference)
+        stopped_by = _stop_reason(model, state, reference) or (trend.verdict(model, state) if trend else "")
     return RunResult(
         history=pd.DataFrame(records),
         blocks=mon.block_table(model, state.blocks),
@@ -373,7 +375,41 @@ def simulate(
     )
 
 
-STOP_REASONS = ("equilibrium", "displacement", "time")
+STOP_REASONS = ("equilibrium", "displacement", "time", "decaying", "creep", "projected")
+
+
+@dataclass
+class _Watch:
+    """The trend of a run's motion (`bbmc.dem.verdict.Trend`) over windows of `solver.stop`'s
+    trend_window_steps, counted from the step every load acts in full."""
+
+    trend: Trend
+    window: int
+    start: int
+    world: np.ndarray
+
+    @classmethod
+    def of(cls, model: Model, state: State) -> _Watch | None:
+        stop = model.scene.solver.stop
+        if stop is None or stop.trend_window_steps is None:
+            return None
+        return cls(Trend(stop.displacement_m), stop.trend_window_steps, -1, state.world.copy())
+
+    def verdict(self, model: Model, state: State) -> str:
+        """The trend's reason once it decides ("" until then), read at a record step."""
+        if state.step < model.loads_applied_step:
+            return ""
+        if self.start < 0 or state.step - self.start >= self.window:
+            moved = float(np.max(np.hypot(*(state.world - self.world).T), initial=0.0))
+            decided = (
+                self.trend.observe(moved, _largest_centroid_displacement(model, state))
+                if self.start >= 0
+                else None
+            )
+            self.start, self.world = state.step, state.world.copy()
+            if decided is not None:
+                return decided[1]
+        return ""
 
 
 def _moved_beyond_stop(model: Model, state: State) -> bool:
@@ -382,10 +418,13 @@ def _moved_beyond_stop(model: Model, state: State) -> bool:
     stop = model.scene.solver.stop
     if stop is None or stop.displacement_m is None:
         return False
+    return _largest_centroid_displacement(model, state) > stop.displacement_m
+
+
+def _largest_centroid_displacement(model: Model, state: State) -> float:
+    """How far the centroid of a block that can move has moved from its start, at most [m]."""
     b = state.blocks[~state.immobile]
-    return bool(
-        np.max(np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0]), initial=0.0) > stop.displacement_m
-    )
+    return float(np.max(np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0]), initial=0.0))
 
 
 def _stop_reason(model: Model, state: State, reference: float) -> str:

@@ -48,9 +48,10 @@ from bbmc.dem import monitors as mon
 from bbmc.dem.model import Model
 from bbmc.dem.scene import StrengthReduction
 from bbmc.dem.solver import SimulationError, State, advance, prepare
+from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
 
 ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equilibrium unreduced
-STABLE, UNSTABLE = "stable", "unstable"
+TREND_WINDOW = float(__import__("os").environ.get("BBMC_TREND_WINDOW", "1.0"))
 
 
 @dataclass(frozen=True)
@@ -79,7 +80,9 @@ class StrengthReductionResult:
     start_world: np.ndarray  # the vertices at the start of every trial [m]
     mechanism_world: np.ndarray | None  # the vertices at the end of the lowest unstable trial [m]
     failure_displacement_m: float
-    laws_losing_cohesion: list[str]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
+    laws_losing_cohesion: list[
+        str
+    ]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
 
     @property
     def progressive_note(self) -> str:
@@ -135,18 +138,26 @@ def settle(
     budget: int,
     failure_displacement: float,
     reference: float,
+    window: int | None = None,
 ) -> tuple[str, str]:
-    """Run `state` until its verdict (module docstring): (verdict, reason)."""
+    """Run `state` until its verdict (module docstring): (verdict, reason). With `window` [steps], the
+    trend of its motion over successive windows decides too (`bbmc.dem.verdict.Trend`)."""
     start_world, first = state.world.copy(), state.step
+    trend = Trend(failure_displacement) if window else None
+    window_start, window_world = first, state.world.copy()
     while state.step - first < budget:
         advance(model, state, min(settings.check_every_steps, budget - (state.step - first)))
-        if largest_displacement(state, start_world) > failure_displacement:
+        moved = largest_displacement(state, start_world)
+        if moved > failure_displacement:
             return UNSTABLE, "displacement"
-        if (
-            state.step >= model.loads_applied_step
-            and mon.unbalanced_force_ratio(state, reference) < settings.unbalanced_force_ratio
-        ):
+        loaded = state.step >= model.loads_applied_step
+        if loaded and mon.unbalanced_force_ratio(state, reference) < settings.unbalanced_force_ratio:
             return STABLE, "equilibrium"
+        if trend is not None and loaded and state.step - window_start >= window:
+            verdict = trend.observe(largest_displacement(state, window_world), moved)
+            window_start, window_world = state.step, state.world.copy()
+            if verdict is not None:
+                return verdict
     return UNSTABLE, "not_settled"
 
 
@@ -197,6 +208,7 @@ def factor_of_safety(
     progress("equilibrium with the strengths as given")
     start, equilibrium, n_r, eq_seconds = _equilibrium(model, settings, failure, reference)
     budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * n_r))
+    window = max(settings.check_every_steps, math.ceil(TREND_WINDOW * n_r))
     progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
     trials: list[Trial] = []
     mechanism = None
@@ -214,7 +226,7 @@ def factor_of_safety(
             law = trial_model.laws[state.contacts[:, L.JOINT_TYPE], L.STRENGTH_LAW]
             state.subs[np.repeat(law == L.STRENGTH_BARTON_BANDIS, state.n_sub), L.TEN] /= factor
         started, first = time.perf_counter(), state.step
-        verdict, reason = settle(trial_model, state, settings, budget, failure, reference)
+        verdict, reason = settle(trial_model, state, settings, budget, failure, reference, window)
         trial = Trial(
             factor=factor,
             verdict=verdict,

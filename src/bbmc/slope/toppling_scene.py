@@ -7,8 +7,9 @@ base b above the one below (`toppling.BlockSystem`). Every joint, base or side, 
 Mohr–Coulomb law (no cohesion), as the limit equilibrium assumes.
 
 A trial at one friction angle holds if the unbalanced force ratio falls below `equilibrium_ratio`
-after the weight is on, and fails if a block moves `failure_displacement_m`; the limiting friction is
-bisected between the two.
+after the weight is on, or its motion decays (`bbmc.dem.verdict`, windows of `trend_window_steps`),
+and fails if a block moves `failure_displacement_m`, creeps, or is projected to move that far; the
+limiting friction is bisected between the two.
 """
 
 from __future__ import annotations
@@ -40,6 +41,8 @@ class TrialSettings:
     equilibrium_ratio: float = 1e-5
     failure_displacement_m: float = 0.2
     sub_contacts_per_edge: int = 4
+    trend_window_steps: int = 15_000  # the motion's trend is judged over windows of this many steps
+    # (about the steps Goodman-Bray's example takes to its equilibrium at 39 deg: its response time)
 
 
 def toppling_scene(blocks: BlockSystem, friction_deg: float, settings: TrialSettings) -> dict:
@@ -96,6 +99,7 @@ def toppling_scene(blocks: BlockSystem, friction_deg: float, settings: TrialSett
             "stop": {
                 "unbalanced_force_ratio": settings.equilibrium_ratio,
                 "displacement_m": settings.failure_displacement_m,
+                "trend_window_steps": settings.trend_window_steps,
             },
         },
         "monitoring": {
@@ -114,9 +118,10 @@ def run_trial(blocks: BlockSystem, friction_deg: float, settings: TrialSettings)
 
 
 def holds(result: RunResult) -> bool:
-    """Whether the trial reached equilibrium (rather than a block's failure displacement)."""
+    """Whether the trial reached equilibrium or was coming to rest (`bbmc.dem.verdict`), rather than
+    failing (a block's failure displacement, a creep, or a movement projected beyond it)."""
     summary = dict(zip(result.summary["quantity"], result.summary["value"], strict=True))
-    return bool(summary["stopped_by_equilibrium"])
+    return bool(summary["stopped_by_equilibrium"] or summary["stopped_by_decaying"])
 
 
 def limiting_friction(

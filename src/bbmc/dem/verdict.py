@@ -1,0 +1,80 @@
+"""Whether a run is coming to rest or failing, judged by the trend of its motion rather than by
+whether it settled within a step budget.
+
+A run near its limit creeps: it may need a million steps to reach a small unbalanced-force ratio
+although it is plainly slowing down, or move at a steady rate that no budget tells from slow
+settling. `Trend` watches the largest distance any vertex moved in each window of steps, d_k. The
+first window is the transient of whatever started the run and is left out; over the last
+`FIT_WINDOWS` windows a least-squares line through ln d_k gives the decay ratio per window, r. A
+damped system coming to rest decays about geometrically, so its blocks will move at most
+d_k r / (1 - r) more (the projected remainder). Then, each in `CONFIRMATIONS` successive windows:
+
+* *decaying* (stable): r <= `STABLE_RATIO` and the projected remainder is below `SETTLED_FRACTION`
+  of the failure displacement: the run is coming to rest, well short of failing;
+* *creep* (unstable): r >= 1, the motion is not slowing (a steady creep at constant velocity is a
+  failure);
+* *projected* (unstable): the displacement so far plus the projected remainder exceeds the failure
+  displacement.
+
+A trend between (STABLE_RATIO < r < 1, coming to rest too slowly to tell) decides nothing: the run
+goes on until one of these, its unbalanced-force ratio or its failure displacement decides, or its
+budget ends. Confirmations keep a window of knocking blocks from deciding.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+FIT_WINDOWS = 4  # windows the decay ratio is fitted over
+CONFIRMATIONS = 2  # successive windows that must agree
+STABLE_RATIO = 0.8  # largest decay ratio per window of a run called coming to rest
+SETTLED_FRACTION = 0.01  # its projected further movement, as a fraction of the failure displacement
+STABLE, UNSTABLE = "stable", "unstable"
+
+
+@dataclass
+class Trend:
+    """The verdict of a run from the largest vertex movement in each of its windows (module docstring)."""
+
+    failure_displacement: float  # [m]
+    moves: list[float] = field(default_factory=list)  # largest vertex movement in each window [m]
+    leaning: str = ""  # the verdict the last window leaned to
+    agreeing: int = 0  # successive windows that leaned to it
+
+    def decay_ratio(self) -> float:
+        """r per window, fitted over the last FIT_WINDOWS windows [1] (0 once the motion stopped)."""
+        last = np.array(self.moves[-FIT_WINDOWS:])
+        if last[-1] <= 0.0:
+            return 0.0
+        if np.any(last <= 0.0):
+            return math.inf
+        return float(np.exp(np.polyfit(np.arange(FIT_WINDOWS), np.log(last), 1)[0]))
+
+    def projected_remainder(self) -> float:
+        """How much further the blocks will move if the decay goes on as fitted [m] (inf if none)."""
+        r = self.decay_ratio()
+        return self.moves[-1] * r / (1.0 - r) if r < 1.0 else math.inf
+
+    def observe(self, moved_in_window: float, moved_so_far: float) -> tuple[str, str] | None:
+        """Add one window's largest movement [m] and the largest displacement so far [m]; returns
+        (STABLE | UNSTABLE, reason) once the trend decides, else None."""
+        self.moves.append(moved_in_window)
+        if len(self.moves) <= FIT_WINDOWS:  # the first window is left out
+            return None
+        r, remainder = self.decay_ratio(), self.projected_remainder()
+        if r <= STABLE_RATIO and remainder < SETTLED_FRACTION * self.failure_displacement:
+            leaning = "decaying"
+        elif r >= 1.0:
+            leaning = "creep"
+        elif moved_so_far + remainder > self.failure_displacement:
+            leaning = "projected"
+        else:
+            leaning = ""
+        self.agreeing = self.agreeing + 1 if leaning and leaning == self.leaning else int(bool(leaning))
+        self.leaning = leaning
+        if self.agreeing >= CONFIRMATIONS:
+            return (STABLE if leaning == "decaying" else UNSTABLE), leaning
+        return None
