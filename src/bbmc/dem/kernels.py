@@ -190,15 +190,15 @@ def edge_frame(world, vertex_next, e):
     return x0, y0, dx / length, dy / length, length
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _open(subs, s):
     subs[s, SN] = 0.0
     subs[s, TAU] = 0.0
     subs[s, CLOSED] = 0.0
 
 
-@numba.njit(cache=True)
-def _normal_share(subs, s, u_mid, slope, half, divisor):
+@numba.njit(cache=True, inline="always")
+def _normal_share(subs, s, u_mid, slope, half, inv_length, divisor):
     """The normal stress over one sub-contact's share of the overlap, integrated exactly, in place.
 
     The share runs xi in [-half, half] about its middle; for rigid blocks its closure is linear, u(xi) =
@@ -220,8 +220,9 @@ def _normal_share(subs, s, u_mid, slope, half, divisor):
     energy (checked by finite differences in the tests), so a corner that strikes a face neither gains
     nor loses energy by it."""
     kn = subs[s, KN]
+    flexibility = 1.0 / kn
     bonded = subs[s, TEN] > 0.0
-    u0 = subs[s, UN] - subs[s, SN] / kn if bonded or subs[s, SN] > 0.0 else max(subs[s, UN], 0.0)
+    u0 = subs[s, UN] - subs[s, SN] * flexibility if bonded or subs[s, SN] > 0.0 else max(subs[s, UN], 0.0)
     middle = kn * (u_mid - u0)
     grad = kn * slope
     lo, hi = -half, half
@@ -238,14 +239,14 @@ def _normal_share(subs, s, u_mid, slope, half, divisor):
     elif s_hi < 0.0:
         hi, s_hi = -middle / grad, 0.0
     mean = 0.5 * (s_lo + s_hi)
-    subs[s, UN] = u0 + mean / kn
+    subs[s, UN] = u0 + mean * flexibility
     closed = hi - lo
-    energy = closed * (s_lo * s_lo + s_lo * s_hi + s_hi * s_hi) / (6.0 * kn)
-    couple = closed * closed * (s_hi - s_lo) / 12.0 - slope * energy
-    return closed / (2.0 * half), mean, 0.5 * (lo + hi), couple
+    energy = closed * (s_lo * s_lo + s_lo * s_hi + s_hi * s_hi) * flexibility * (1.0 / 6.0)
+    couple = closed * closed * (s_hi - s_lo) * (1.0 / 12.0) - slope * energy
+    return closed * inv_length, mean, 0.5 * (lo + hi), couple
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates):
     """The shear of one sub-contact's share (module docstring), in place, after its normal stress
     (`_normal_share`: closed fraction `closed`, mean sigma_n `sn` over the closed part); its shear and
@@ -380,9 +381,13 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
     other or no longer overlap in projection is inactive: zero length, zero stresses. Its overlap is cut
     into n_sub equal shares; the closure u_n (> 0 closed), the distance along the normal between the two
     edges, is linear along each (rigid blocks). A share's normal force is its stress integrated exactly
-    (`_normal_share`), applied at the share's middle, midway between the edges, with the stress's first
-    moment about it (so in effect at the stress's centroid); its shear force acts there too (along the
-    line its moment does not depend on where it acts).
+    (`_normal_share`) and acts at the middle of its closed part, midway between the edges, with the
+    couple `_normal_share` gives; its shear force acts there too. A point P = s t + m n of the line
+    (s along it, m across) moves relative to A at v_B - v_A + w_B z x (P - c_B) - w_A z x (P - c_A), of
+    which the part along t is (v_B - v_A).t + w_B (m - c_B.n) - w_A (m - c_A.n): the shear
+    displacement varies along the line with m alone. The shares' forces are summed per contact and
+    added to each block once, with their moments P x f = -s f_n - m f_s about the origin moved to the
+    block's centroid.
     """
     size = blocks[:, SIZE]
     for c in range(contacts.shape[0]):
@@ -396,41 +401,54 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
                 subs[s, LENGTH] = 0.0
             continue
         tx, ty = -ny, nx
-        after_slip = laws[contacts[c, JOINT_TYPE], AFTER_SLIP]
-        divisor = params[contacts[c, JOINT_TYPE], P_STRENGTH_DIVISOR]
-        dilates = laws[contacts[c, JOINT_TYPE], STRENGTH_LAW] == STRENGTH_MOBILIZED
-        length = (hi - lo) / n_sub
-        slope = ((a_hi - b_hi) - (a_lo - b_lo)) / (hi - lo)
+        joint = contacts[c, JOINT_TYPE]
+        after_slip = laws[joint, AFTER_SLIP]
+        divisor = params[joint, P_STRENGTH_DIVISOR]
+        dilates = laws[joint, STRENGTH_LAW] == STRENGTH_MOBILIZED
+        span = hi - lo
+        per_span = 1.0 / span
+        length = span / n_sub
+        per_length = n_sub * per_span
+        per_share = 1.0 / n_sub
+        u_lo, u_rise = a_lo - b_lo, (a_hi - b_hi) - (a_lo - b_lo)
+        slope = u_rise * per_span
+        m_lo, m_rise = 0.5 * (a_lo + b_lo), 0.5 * ((a_hi - a_lo) + (b_hi - b_lo))
+        wa, wb = blocks[a, W], blocks[b, W]
+        slip_rate = (
+            (blocks[b, VX] - blocks[a, VX]) * tx
+            + (blocks[b, VY] - blocks[a, VY]) * ty
+            - wb * (blocks[b, X] * nx + blocks[b, Y] * ny)
+            + wa * (blocks[a, X] * nx + blocks[a, Y] * ny)
+        )
+        fx_sum, fy_sum, moment = 0.0, 0.0, 0.0
         for k in range(n_sub):
             s = first + k
-            f = share_middle(k, n_sub)
-            u_mid = (a_lo - b_lo) + f * ((a_hi - b_hi) - (a_lo - b_lo))
+            f = (k + 0.5) * per_share
+            u_mid = u_lo + f * u_rise
             if dilates:
                 u_mid += subs[s, DILATION]
             was_closed = subs[s, SN] > 0.0
-            closed, sn, centre, couple = _normal_share(subs, s, u_mid, slope, 0.5 * length, divisor)
-            f += centre / (hi - lo)  # the closed part's middle, where the share's forces act
-            along = lo + f * (hi - lo)
-            middle = 0.5 * (a_lo + b_lo + f * ((a_hi - a_lo) + (b_hi - b_lo)))
-            cx, cy = along * tx + middle * nx, along * ty + middle * ny
-            rax, ray = cx - blocks[a, X], cy - blocks[a, Y]
-            rbx, rby = cx - blocks[b, X], cy - blocks[b, Y]
-            dvx = (blocks[b, VX] - blocks[b, W] * rby) - (blocks[a, VX] - blocks[a, W] * ray)
-            dvy = (blocks[b, VY] + blocks[b, W] * rbx) - (blocks[a, VY] + blocks[a, W] * rax)
-            dus = (dvx * tx + dvy * ty) * dt
+            closed, sn, centre, couple = _normal_share(
+                subs, s, u_mid, slope, 0.5 * length, per_length, divisor
+            )
+            f += centre * per_span  # the closed part's middle, where the share's forces act
+            along, middle = lo + f * span, m_lo + f * m_rise
+            dus = (slip_rate + (wb - wa) * middle) * dt
             _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates)
             subs[s, LENGTH] = length
-            subs[s, CX] = cx
-            subs[s, CY] = cy
+            subs[s, CX] = along * tx + middle * nx
+            subs[s, CY] = along * ty + middle * ny
             carried = length * subs[s, CLOSED]
-            fx = carried * (subs[s, SN] * nx - subs[s, TAU] * tx)
-            fy = carried * (subs[s, SN] * ny - subs[s, TAU] * ty)
-            blocks[b, FX] += fx
-            blocks[b, FY] += fy
-            blocks[b, FM] += rbx * fy - rby * fx - couple
-            blocks[a, FX] -= fx
-            blocks[a, FY] -= fy
-            blocks[a, FM] -= rax * fy - ray * fx - couple
+            fn, fs = carried * subs[s, SN], carried * subs[s, TAU]
+            fx_sum += fn * nx - fs * tx
+            fy_sum += fn * ny - fs * ty
+            moment -= along * fn + middle * fs + couple
+        blocks[b, FX] += fx_sum
+        blocks[b, FY] += fy_sum
+        blocks[b, FM] += moment - (blocks[b, X] * fy_sum - blocks[b, Y] * fx_sum)
+        blocks[a, FX] -= fx_sum
+        blocks[a, FY] -= fy_sum
+        blocks[a, FM] -= moment - (blocks[a, X] * fy_sum - blocks[a, Y] * fx_sum)
 
 
 @numba.njit(cache=True)

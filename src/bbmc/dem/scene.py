@@ -402,6 +402,7 @@ class StrengthReduction(Section):
     response_multiple: Annotated[float, Field(ge=1)] = 10.0  # a trial's step budget x equilibrium steps
     min_trial_steps: Annotated[int, Field(ge=100)] = 2000
     check_every_steps: Annotated[int, Field(ge=1)] = 100
+    trend_window_multiple: Annotated[float, Field(gt=0)] = 1.0  # a trial's trend windows x equilibrium steps
     largest_factor: Annotated[float, Field(gt=1)] = 20.0  # the bracket is sought in [1 / it, it]
 
 

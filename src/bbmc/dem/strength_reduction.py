@@ -51,7 +51,6 @@ from bbmc.dem.solver import SimulationError, State, advance, prepare
 from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
 
 ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equilibrium unreduced
-TREND_WINDOW = float(__import__("os").environ.get("BBMC_TREND_WINDOW", "1.0"))
 
 
 @dataclass(frozen=True)
@@ -208,7 +207,7 @@ def factor_of_safety(
     progress("equilibrium with the strengths as given")
     start, equilibrium, n_r, eq_seconds = _equilibrium(model, settings, failure, reference)
     budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * n_r))
-    window = max(settings.check_every_steps, math.ceil(TREND_WINDOW * n_r))
+    window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * n_r))
     progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
     trials: list[Trial] = []
     mechanism = None
