@@ -16,9 +16,12 @@ d_k r / (1 - r) more (the projected remainder). Then, each in `CONFIRMATIONS` su
 * *projected* (unstable): the displacement so far plus the projected remainder exceeds the failure
   displacement.
 
-A trend between (STABLE_RATIO < r < 1, coming to rest too slowly to tell) decides nothing: the run
-goes on until one of these, its unbalanced-force ratio or its failure displacement decides, or its
-budget ends. Confirmations keep a window of knocking blocks from deciding.
+A trend between (STABLE_RATIO < r < 1, coming to rest too slowly to tell) decides nothing until
+`DECIDING_WINDOWS` windows after the first have been seen; then the fit over the last `FIT_WINDOWS`
+decides alone: *decaying* if r <= `DECIDING_RATIO` and the projection stays short of the failure
+displacement, else *creep*. So the verdict never waits for a step budget: a run given 1 + 8 windows
+or more gets the same verdict whatever its budget. Confirmations keep a window of knocking blocks from
+deciding.
 """
 
 from __future__ import annotations
@@ -32,6 +35,8 @@ FIT_WINDOWS = 4  # windows the decay ratio is fitted over
 CONFIRMATIONS = 2  # successive windows that must agree
 STABLE_RATIO = 0.8  # largest decay ratio per window of a run called coming to rest
 SETTLED_FRACTION = 0.01  # its projected further movement, as a fraction of the failure displacement
+DECIDING_WINDOWS = 8  # windows after the first by which an undecided trend decides alone
+DECIDING_RATIO = 0.9  # the largest decay ratio per window then called coming to rest
 STABLE, UNSTABLE = "stable", "unstable"
 
 
@@ -77,4 +82,8 @@ class Trend:
         self.leaning = leaning
         if self.agreeing >= CONFIRMATIONS:
             return (STABLE if leaning == "decaying" else UNSTABLE), leaning
+        if len(self.moves) > DECIDING_WINDOWS:
+            if r <= DECIDING_RATIO and moved_so_far + remainder <= self.failure_displacement:
+                return STABLE, "decaying"
+            return UNSTABLE, "creep"
         return None
