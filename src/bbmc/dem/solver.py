@@ -364,7 +364,9 @@ def simulate(
         records.append(_record(model, state, reference, joints))
         if on_record:
             on_record(state)
-        stopped_by = _stop_reason(model, state, reference) or (trend.verdict(model, state) if trend else "")
+        stopped_by = _stop_reason(model, state, reference) or (
+            trend.verdict(model, state, reference) if trend else ""
+        )
     return RunResult(
         history=pd.DataFrame(records),
         blocks=mon.block_table(model, state.blocks),
@@ -376,6 +378,7 @@ def simulate(
 
 
 STOP_REASONS = ("equilibrium", "displacement", "time", "decaying", "creep", "projected")
+DEFAULT_UNBALANCE_LIMIT = 1e-5  # the trend's balance limit when the stop gives no unbalanced_force_ratio
 
 
 @dataclass
@@ -393,16 +396,21 @@ class _Watch:
         stop = model.scene.solver.stop
         if stop is None or stop.trend_window_steps is None:
             return None
-        return cls(Trend(stop.displacement_m), stop.trend_window_steps, -1, state.world.copy())
+        limit = stop.unbalanced_force_ratio or DEFAULT_UNBALANCE_LIMIT
+        return cls(Trend(stop.displacement_m, limit), stop.trend_window_steps, -1, state.world.copy())
 
-    def verdict(self, model: Model, state: State) -> str:
+    def verdict(self, model: Model, state: State, reference: float) -> str:
         """The trend's reason once it decides ("" until then), read at a record step."""
         if state.step < model.loads_applied_step:
             return ""
         if self.start < 0 or state.step - self.start >= self.window:
             moved = float(np.max(np.hypot(*(state.world - self.world).T), initial=0.0))
             decided = (
-                self.trend.observe(moved, _largest_centroid_displacement(model, state))
+                self.trend.observe(
+                    moved,
+                    _largest_centroid_displacement(model, state),
+                    mon.unbalanced_force_ratio(state, reference),
+                )
                 if self.start >= 0
                 else None
             )

@@ -142,7 +142,7 @@ def settle(
     """Run `state` until its verdict (module docstring): (verdict, reason). With `window` [steps], the
     trend of its motion over successive windows decides too (`bbmc.dem.verdict.Trend`)."""
     start_world, first = state.world.copy(), state.step
-    trend = Trend(failure_displacement) if window else None
+    trend = Trend(failure_displacement, settings.unbalanced_force_ratio) if window else None
     window_start, window_world = first, state.world.copy()
     while state.step - first < budget:
         advance(model, state, min(settings.check_every_steps, budget - (state.step - first)))
@@ -150,10 +150,11 @@ def settle(
         if moved > failure_displacement:
             return UNSTABLE, "displacement"
         loaded = state.step >= model.loads_applied_step
-        if loaded and mon.unbalanced_force_ratio(state, reference) < settings.unbalanced_force_ratio:
+        unbalance = mon.unbalanced_force_ratio(state, reference)
+        if loaded and unbalance < settings.unbalanced_force_ratio:
             return STABLE, "equilibrium"
         if trend is not None and loaded and state.step - window_start >= window:
-            verdict = trend.observe(largest_displacement(state, window_world), moved)
+            verdict = trend.observe(largest_displacement(state, window_world), moved, unbalance)
             window_start, window_world = state.step, state.world.copy()
             if verdict is not None:
                 return verdict

@@ -9,8 +9,11 @@ first window is the transient of whatever started the run and is left out; over 
 damped system coming to rest decays about geometrically, so its blocks will move at most
 d_k r / (1 - r) more (the projected remainder). Then, each in `CONFIRMATIONS` successive windows:
 
-* *decaying* (stable): r <= `STABLE_RATIO` and the projected remainder is below `SETTLED_FRACTION`
-  of the failure displacement: the run is coming to rest, well short of failing;
+* *decaying* (stable): r <= `STABLE_RATIO`, the projected remainder is below `SETTLED_FRACTION`
+  of the failure displacement and the unbalanced-force ratio is below `UNBALANCE_MULTIPLE` times its
+  limit: the run is coming to rest, well short of failing, its forces nearly balanced (a joint that
+  softens after its peak can pause after a first slip, its blocks decelerating while its forces are
+  far from balance, and then fail: the ratio tells that pause from rest);
 * *creep* (unstable): r >= 1, the motion is not slowing (a steady creep at constant velocity is a
   failure);
 * *projected* (unstable): the displacement so far plus the projected remainder exceeds the failure
@@ -35,6 +38,7 @@ FIT_WINDOWS = 4  # windows the decay ratio is fitted over
 CONFIRMATIONS = 2  # successive windows that must agree
 STABLE_RATIO = 0.8  # largest decay ratio per window of a run called coming to rest
 SETTLED_FRACTION = 0.01  # its projected further movement, as a fraction of the failure displacement
+UNBALANCE_MULTIPLE = 100.0  # and its unbalanced-force ratio at most this times the ratio's limit
 DECIDING_WINDOWS = 8  # windows after the first by which an undecided trend decides alone
 DECIDING_RATIO = 0.9  # the largest decay ratio per window then called coming to rest
 STABLE, UNSTABLE = "stable", "unstable"
@@ -45,6 +49,7 @@ class Trend:
     """The verdict of a run from the largest vertex movement in each of its windows (module docstring)."""
 
     failure_displacement: float  # [m]
+    unbalance_limit: float  # the unbalanced-force ratio that means equilibrium [1]
     moves: list[float] = field(default_factory=list)  # largest vertex movement in each window [m]
     leaning: str = ""  # the verdict the last window leaned to
     agreeing: int = 0  # successive windows that leaned to it
@@ -63,14 +68,18 @@ class Trend:
         r = self.decay_ratio()
         return self.moves[-1] * r / (1.0 - r) if r < 1.0 else math.inf
 
-    def observe(self, moved_in_window: float, moved_so_far: float) -> tuple[str, str] | None:
-        """Add one window's largest movement [m] and the largest displacement so far [m]; returns
-        (STABLE | UNSTABLE, reason) once the trend decides, else None."""
+    def observe(
+        self, moved_in_window: float, moved_so_far: float, unbalance: float
+    ) -> tuple[str, str] | None:
+        """Add one window's largest movement [m], the largest displacement so far [m] and the
+        unbalanced-force ratio now [1]; returns (STABLE | UNSTABLE, reason) once the trend decides,
+        else None."""
         self.moves.append(moved_in_window)
         if len(self.moves) <= FIT_WINDOWS:  # the first window is left out
             return None
         r, remainder = self.decay_ratio(), self.projected_remainder()
-        if r <= STABLE_RATIO and remainder < SETTLED_FRACTION * self.failure_displacement:
+        balanced = unbalance < UNBALANCE_MULTIPLE * self.unbalance_limit
+        if r <= STABLE_RATIO and remainder < SETTLED_FRACTION * self.failure_displacement and balanced:
             leaning = "decaying"
         elif r >= 1.0:
             leaning = "creep"
