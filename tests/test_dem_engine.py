@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bbmc.cli import main
-from bbmc.dem import kernels, polygons
+from bbmc.dem import joint_state, polygons
 from bbmc.dem import layout as L
 from bbmc.dem.detection import candidate_pairs
 from bbmc.dem.solver import (
@@ -139,7 +139,7 @@ def test_fixed_step_that_becomes_unstable_stops_the_run_naming_the_step(tmp_path
     model = load_scene(write_scene(tmp_path, _stiffening_scene(1.0)))
     state = initial_state(model)
     search_contacts(model, state)
-    kernels.update_joint_laws(state.contacts, state.subs, state.n_sub, model.laws, model.params, True)
+    joint_state.update_joint_laws(state.contacts, state.subs, state.n_sub, model.laws, model.params, True)
     start_critical = _critical(model, state)
     result = _run(write_scene(tmp_path, _stiffening_scene(0.5 * start_critical)), tmp_path / "out")
     assert result.exit_code == 3, result.output

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from bbmc.dem import kernels
+from bbmc.dem import contact_geometry
 from bbmc.dem import layout as L
 from bbmc.dem.detection import facing_edges
 from bbmc.dem.layout import CORNER_ROUNDING
@@ -315,7 +315,9 @@ def _frame_normal(world: np.ndarray) -> tuple[bool, float]:
     """Whether the contact between edge 2 (the top of square A, vertices 0-3) and edge 6 (of triangle
     B, vertices 4-6, from vertex 6 to its lowest vertex 4) is active, and its normal's angle [deg]."""
     vertex_next = np.array([1, 2, 3, 0, 5, 6, 4])
-    active, nx, ny, *_ = kernels.contact_frame(world, vertex_next, 2, 6, np.ones(2), 0, 1)  # sizes 1 m
+    active, nx, ny, *_ = contact_geometry.contact_frame(
+        world, vertex_next, 2, 6, np.ones(2), 0, 1
+    )  # sizes 1 m
     return active, math.degrees(math.atan2(ny, nx))
 
 

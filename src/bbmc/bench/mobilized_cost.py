@@ -2,7 +2,7 @@
 
 mobilized_cost.csv, two parts:
 
-* `update`: the time of one law update per sub-contact (`kernels.update_joint_laws`, every sub-contact
+* `update`: the time of one law update per sub-contact (`joint_state.update_joint_laws`, every sub-contact
   evaluated) for the mobilized law (Bandis K_n), the paper's peak-only law (eq 15 tangent, eq 8 K_n,
   eq 17 K_s), both again with constant stiffnesses (strength alone, like for like), and a constant
   joint, on the same arrays of sub-contacts in one process, best of N; with the ratios to the paper's.
@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from bbmc import laws, units
-from bbmc.dem import kernels
+from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
@@ -132,12 +132,12 @@ def update_cost(sub_contacts: int, repeats: int) -> pd.DataFrame:
         contacts = np.zeros((sub_contacts // n_sub, L.CONTACT_COLUMNS), dtype=np.int64)
         contacts[:, L.JOINT_TYPE] = j
         work = subs.copy()
-        kernels.update_joint_laws(contacts, work, n_sub, model.laws, model.params, False)  # compiled
+        joint_state.update_joint_laws(contacts, work, n_sub, model.laws, model.params, False)  # compiled
         best = np.inf
         for _ in range(repeats):
             work[:] = subs
             start = time.perf_counter()
-            kernels.update_joint_laws(contacts, work, n_sub, model.laws, model.params, False)
+            joint_state.update_joint_laws(contacts, work, n_sub, model.laws, model.params, False)
             best = min(best, time.perf_counter() - start)
         rows.append({"part": "update", "law": name, "ns_per_sub_contact_update": best / sub_contacts * 1e9})
     table = pd.DataFrame(rows)

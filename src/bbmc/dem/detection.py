@@ -14,7 +14,7 @@ import numba
 import numpy as np
 from numba.typed import List
 
-from bbmc.dem.kernels import contact_frame, edge_frame
+from bbmc.dem.contact_geometry import contact_frame, edge_frame
 from bbmc.dem.layout import CORNER_ROUNDING
 
 
@@ -151,7 +151,7 @@ def _candidate(world, vertex_start, vertex_next, size, margin, depth, a, b, ea, 
 def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_when_needed):
     """Edge pairs (edge of a, edge of b) of each block pair that are in contact or about to be: their
     outward normals face each other at any angle below 90 degrees (a face, a corner against a face, a
-    corner against a corner; `kernels.contact_frame`), they overlap on their common line, and at the
+    corner against a corner; `contact_geometry.contact_frame`), they overlap on their common line, and at the
     closer end of that overlap they are no farther apart than the margin and no deeper inside each
     other than the blocks overlap along their separating axis (plus 1 % of the margin) nor than a
     quarter of the smaller block's size. The separating-axis bound rejects edges of two blocks that
@@ -170,7 +170,7 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
     `bound_when_needed`: compute the separating-axis bound only for a pair with an edge pair deeper
     than 1 % of the margin (no shallower one can fail it), else for every pair.
     Returns int64 (n, 4): edge a, edge b, block a, block b; and float64 (n, 2): each pair's normal
-    (`kernels.contact_frame`)."""
+    (`contact_geometry.contact_frame`)."""
     found, normals = List(), List()
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]

@@ -52,7 +52,7 @@ CLOSED = 19  # fraction of the share that is closed (carries stress) [1]
 SUB_COLUMNS = 20
 
 # corners are rounded over this fraction of the smaller block's size: within it of each other, two
-# corners in contact turn the normal gradually from one face's to the other's (`kernels.contact_frame`)
+# corners in contact turn the normal gradually from one face's to the other's (`contact_frame`)
 CORNER_ROUNDING = 0.01
 
 # --- joint types: int64 (n_types, LAW_COLUMNS) and float64 (n_types, PARAMETERS) --------------------
@@ -108,3 +108,6 @@ PARAMETERS = 29
 # --- run clock: float64 (CLOCK_COLUMNS,) ------------------------------------------------------------
 STEP, TIME, DT, SINCE_UPDATE = 0, 1, 2, 3
 CLOCK_COLUMNS = 4
+
+# --- kernel return codes --------------------------------------------------------------------------
+DONE, SEARCH_NEEDED, STEP_ABOVE_CRITICAL, NO_BOUND = 0, 1, 2, 3

@@ -16,7 +16,7 @@ import pandas as pd
 
 from bbmc import units
 from bbmc.dem import layout as L
-from bbmc.dem.kernels import contact_frame
+from bbmc.dem.contact_geometry import contact_frame
 from bbmc.dem.model import Model, MonitorSpec
 from bbmc.dem.scene import JOINT_QUANTITIES
 

@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from bbmc.config import load_config
-from bbmc.dem import kernels
+from bbmc.dem import contact_forces, joint_state, kernels, motion, time_step
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
 from bbmc.dem.detection import candidate_pairs, facing_edges, vertex_penetration
@@ -75,7 +75,7 @@ def initial_state(model: Model) -> State:
     world = np.empty_like(model.local)
     blocks = model.blocks.copy()
     immobile = model.immobile
-    kernels.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
+    motion.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
     return State(
         clock=np.zeros(L.CLOCK_COLUMNS),
         blocks=blocks,
@@ -137,13 +137,15 @@ def search_contacts(model: Model, state: State) -> None:
     kept_rows = (kept[:, None] * n_sub + np.arange(n_sub)).ravel()
     subs = np.concatenate([state.subs[kept_rows], np.zeros((len(fresh) * n_sub, L.SUB_COLUMNS))])
     first_new = len(kept)
-    kernels.initial_joint_state(contacts, subs, n_sub, model.laws, model.params, first_new, state.step == 0)
+    joint_state.initial_joint_state(
+        contacts, subs, n_sub, model.laws, model.params, first_new, state.step == 0
+    )
     new_contacts, new_subs = contacts[first_new:], subs[first_new * n_sub :]
     if model.variable_laws:
-        kernels.update_joint_laws(
+        joint_state.update_joint_laws(
             new_contacts, new_subs, n_sub, model.laws, model.params, model.economy.changed_laws_only
         )
-    kernels.contact_forces(
+    contact_forces.contact_forces(
         b, state.world, model.vertex_next, new_contacts, new_subs, n_sub, model.laws, model.params, 0.0
     )
     state.contacts, state.subs = contacts, subs
@@ -153,7 +155,7 @@ def search_contacts(model: Model, state: State) -> None:
 
 def _set_time_step(model: Model, state: State) -> None:
     ts = model.scene.solver.time_step
-    status = kernels.set_time_step(
+    status = time_step.set_time_step(
         state.clock,
         *_stiffness(model, state),
         TIME_STEP_MODES[ts.mode],
@@ -161,15 +163,15 @@ def _set_time_step(model: Model, state: State) -> None:
         ts.step_s or math.inf,
         model.scene.solver.damping,
     )
-    if status == kernels.STEP_ABOVE_CRITICAL:
+    if status == L.STEP_ABOVE_CRITICAL:
         _above_critical(model, state)
-    if status == kernels.NO_BOUND and state.step == 0:
+    if status == L.NO_BOUND and state.step == 0:
         raise SimulationError(
             "key 'solver.time_step.step_s': at step 0 nothing is in contact, so the automatic time step "
             "has no bound; give step_s as its upper limit",
             bad_input=True,
         )
-    if status == kernels.NO_BOUND:
+    if status == L.NO_BOUND:
         now = _check_overlap(model, state, [])
         if now > 0.1:  # the search drops contacts deeper than a quarter of a block
             raise SimulationError(
@@ -199,7 +201,7 @@ def _stiffness(model: Model, state: State) -> tuple:
 
 
 def _critical(model: Model, state: State) -> float:
-    return kernels.critical_time_step(*_stiffness(model, state), model.scene.solver.damping)
+    return time_step.critical_time_step(*_stiffness(model, state), model.scene.solver.damping)
 
 
 def _above_critical(model: Model, state: State) -> None:
@@ -277,7 +279,7 @@ def prepare(model: Model) -> State:
     state = initial_state(model)
     search_contacts(model, state)
     if model.variable_laws:
-        kernels.update_joint_laws(
+        joint_state.update_joint_laws(
             state.contacts, state.subs, state.n_sub, model.laws, model.params, model.economy.changed_laws_only
         )
     _set_time_step(model, state)
@@ -324,9 +326,9 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             ts.step_s or math.inf,
         )
         _check_health(model, state)
-        if status == kernels.STEP_ABOVE_CRITICAL:
+        if status == L.STEP_ABOVE_CRITICAL:
             _above_critical(model, state)
-        if status == kernels.SEARCH_NEEDED:
+        if status == L.SEARCH_NEEDED:
             search_contacts(model, state)
             _set_time_step(model, state)
             if _moved_beyond_stop(model, state):

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bbmc import laws
-from bbmc.dem import kernels
+from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
 from bbmc.dem.model import Model
@@ -219,7 +219,7 @@ def factor_of_safety(
         trial_model = _with_params(model, reduced_params(model, factor, settings.barton_bandis_reduction))
         if settings.barton_bandis_reduction == "phi_b_jrc" and trial_model.variable_laws:
             state.subs[:, L.LAW_SN] = math.nan  # the envelope changed: re-evaluate every sub-contact
-            kernels.update_joint_laws(
+            joint_state.update_joint_laws(
                 state.contacts, state.subs, state.n_sub, trial_model.laws, trial_model.params, True
             )
             # the divisor is 1 for these joints: their tensile strength is divided here instead
