@@ -99,3 +99,16 @@ def test_a_cold_engine_cache_is_announced_once(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(kernel_cache, "_announced", False)
     kernel_cache.announce_engine_compile()
     assert capsys.readouterr().err == ""
+
+
+def test_the_keyed_cache_holds_when_numba_was_imported_first(tmp_path):
+    """numba reads NUMBA_CACHE_DIR when it is imported: a script that imports numba before bbmc still
+    compiles into the keyed directory, and a NUMBA_CACHE_DIR set by hand is replaced by it."""
+    script = (
+        "import numba, bbmc, os; from bbmc import kernel_cache as k; "
+        "print(numba.config.CACHE_DIR); print(os.environ['NUMBA_CACHE_DIR']); print(k.source_key())"
+    )
+    env = os.environ | {"XDG_CACHE_HOME": str(tmp_path), "NUMBA_CACHE_DIR": str(tmp_path / "by-hand")}
+    run = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True)
+    config, variable, key = run.stdout.split()
+    assert config == variable == str(tmp_path / "bbmc" / "numba" / key)
