@@ -1,23 +1,35 @@
 """No text of any figure a stage draws falls outside its canvas (a clipped title, a label run off the
-figure): every stage's figures, drawn and measured with matplotlib's own text extents."""
+figure): every stage's figures, drawn and measured with matplotlib's own text extents. And the block
+figures show what loads a scene: its phreatic surface and its seismic load, the mechanism's FS, the
+monitors against time."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
-import meshio
 import numpy as np
+import pandas as pd
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
-from matplotlib.text import Text
+from matplotlib.text import Annotation, Text
 
 from bbmc import api
-from bbmc.config import load_config
-from bbmc.dem.figures import bracketing_figure, history_figure, mechanism_figure, scene_figure
-from bbmc.dem.model import build_model
+from bbmc.config import load_config, read_yaml
+from bbmc.dem import layout as L
+from bbmc.dem.figures import (
+    WATER_COLOUR,
+    bracketing_figure,
+    fos_title,
+    history_figure,
+    mechanism_figure,
+    scene_figure,
+)
+from bbmc.dem.model import Model, build_model
 from bbmc.dem.solver import initial_state
-from bbmc.dem.strength_reduction import factor_of_safety
+from bbmc.dem.strength_reduction import StrengthReductionResult, Trial, factor_of_safety
+from bbmc.dem.vtk import read_vtu
 from bbmc.stages import fit, joint, mc, slope, sweep
 from stage_runs import config_copy
 
@@ -89,10 +101,110 @@ def test_the_slope_stages_figures_draw_every_text_inside_the_canvas(tmp_path):
         assert pvd.count("<DataSet") == len(vtu) >= 2
         path = tmp_path / f"{kind}.vtu"
         path.write_bytes(result.files[vtu[-1]])
-        assert len(np.concatenate(meshio.read(path).cell_data["displacement"])) == 34
+        mesh, texts = read_vtu(path)
+        assert len(np.concatenate(mesh.cell_data["displacement_m"])) == len(texts["block"]) == 34
+
+
+def _loaded_crack(towards: str = "-x") -> Model:
+    """Hoek and Bray's cracked slope (water to the crack) with a seismic load k_h = 0.1."""
+    data = read_yaml(CONFIGS / "scenes" / "planar_crack.yaml")
+    data["seismic"] = {"horizontal_coefficient": 0.1, "towards": towards}
+    return build_model(api.load_scene(data), Path("planar_crack.yaml"))
+
+
+def _reduction(model: Model, bracket: tuple[float, float], moved: bool = True) -> StrengthReductionResult:
+    """A strength reduction's result as the search returns it, the mechanism a 10 mm shift of every
+    block that is not held (drawn, not run: the figure is what is tested)."""
+    start = initial_state(model).world
+    held = np.all(model.dof == L.PRESCRIBED, axis=1)[model.vertex_block]
+    mechanism = start + np.where(held[:, None], 0.0, 0.01) if moved else None
+    lo, hi = bracket
+    bracketed = lo > 0.0 and hi < math.inf
+    trial = Trial(hi, "unstable", "displacement", 100, 0.01, 1e-3, 0.1)
+    return StrengthReductionResult(
+        factor_of_safety=0.5 * (lo + hi) if bracketed else (lo if hi == math.inf else hi),
+        bracket=bracket,
+        bracketed=bracketed,
+        start="unreduced",
+        equilibrium_steps=100,
+        equilibrium_seconds=0.1,
+        trials=[trial],
+        start_world=start,
+        mechanism_world=mechanism,
+        failure_displacement_m=0.1,
+        laws_losing_cohesion=[],
+    )
+
+
+def _annotations(fig: Figure) -> list[Annotation]:
+    return [child for child in fig.axes[0].get_children() if isinstance(child, Annotation)]
+
+
+@pytest.mark.parametrize("towards", ["-x", "+x"])
+def test_scene_and_mechanism_draw_the_phreatic_surface_and_the_seismic_load(towards):
+    """Both figures draw the water table as a blue line named in the legend, on the scene's own
+    polyline (level beyond its ends), and the seismic load as an arrow pointing its way, labelled k_h."""
+    model = _loaded_crack(towards)
+    world = initial_state(model).world
+    figures = [
+        scene_figure(model, world, world, model.dof, 80),
+        mechanism_figure(model, _reduction(model, (1.1, 1.12)), 80),
+    ]
+    for fig in figures:
+        water = [line for line in fig.axes[0].lines if line.get_label().startswith("phreatic surface")]
+        assert len(water) == 1 and water[0].get_color() == WATER_COLOUR
+        x, y = water[0].get_data()
+        surface = model.water_surface
+        np.testing.assert_allclose(y, np.interp(x, surface[:, 0], surface[:, 1]))
+        assert x[0] <= surface[0, 0] and x[-1] >= surface[-1, 0]  # across the whole figure
+        assert "phreatic surface" in [t.get_text()[:16] for t in fig.legends[0].get_texts()]
+        arrow, label = _annotations(fig)
+        (head_x, _), (tail_x, _) = arrow.xy, arrow.xyann
+        assert (head_x < tail_x) == (towards == "-x")
+        assert f"k_h = 0.1 (towards {towards})" in label.get_text()
+    _assert_inside(dict(zip(["scene", "mechanism"], figures, strict=True)))
+
+
+def test_a_scene_without_water_or_seismic_load_draws_neither():
+    model = build_model(api.load_scene(CONFIGS / "scenes" / "incline.yaml"), Path("incline.yaml"))
+    world = initial_state(model).world
+    for fig in (
+        scene_figure(model, world, world, model.dof, 80),
+        mechanism_figure(model, _reduction(model, (1.1, 1.12)), 80),
+    ):
+        assert not [line for line in fig.axes[0].lines if "phreatic" in line.get_label()]
+        assert not _annotations(fig)
+
+
+@pytest.mark.parametrize(
+    "bracket, moved, title",
+    [
+        ((1.1, 1.12), True, "FS = 1.110, lowest failing trial F = 1.120"),
+        ((20.0, math.inf), False, "FS > 20.000: no trial failed"),
+        ((0.0, 0.05), True, "FS < 0.050: every trial failed, the lowest at F = 0.050"),
+    ],
+)
+def test_the_mechanism_title_gives_the_factor_of_safety(bracket, moved, title):
+    model = _loaded_crack()
+    result = _reduction(model, bracket, moved)
+    assert fos_title(result) == title
+    drawn = mechanism_figure(model, result, 80).axes[0].get_title()
+    assert drawn.startswith(f"planar_crack: {title}\n")
+    assert drawn.endswith("(scaled)" if moved else "no mechanism")
+
+
+def test_history_is_drawn_against_time():
+    history = pd.DataFrame(
+        {"step": [0, 100, 200], "time_s": [0.0, 0.5, 1.5], "wedge_x_mm": [0.0, -1.0, -4.0]}
+    )
+    fig = history_figure(history, 80)
+    assert fig.axes[-1].get_xlabel() == "time [s]"
+    np.testing.assert_array_equal(fig.axes[0].lines[0].get_xdata(), history["time_s"])
 
 
 def test_run_fos_and_sweep_figures_draw_every_text_inside_the_canvas(tmp_path):
+    """The run's figures (the incline: four monitors; and one monitor alone, whose time axis' label
+    a short figure cut), the factor of safety's, and a study's."""
     scene = api.load_scene(CONFIGS / "scenes" / "planar_crack.yaml")
     model = build_model(scene, Path("planar_crack.yaml"))
     result = api.run(CONFIGS / "scenes" / "incline.yaml")
@@ -103,6 +215,7 @@ def test_run_fos_and_sweep_figures_draw_every_text_inside_the_canvas(tmp_path):
             incline, initial_state(incline).world, result.state.world, result.state.dof, 120
         ),
         "history": history_figure(result.history, 120),
+        "history of one monitor": history_figure(result.history[["step", "time_s", "slider_x_mm"]], 120),
         "mechanism": mechanism_figure(model, reduction, 120),
         "bracketing": bracketing_figure(reduction, 120),
     }

@@ -8,7 +8,6 @@ import os
 import shutil
 from pathlib import Path
 
-import meshio
 import numpy as np
 import pandas as pd
 import pytest
@@ -18,6 +17,11 @@ from click.testing import CliRunner
 from bbmc import api
 from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml
+from bbmc.dem import kernels
+from bbmc.dem import layout as L
+from bbmc.dem.model import build_model
+from bbmc.dem.solver import initial_state
+from bbmc.dem.vtk import block_mesh, read_vtu
 
 ROOT = Path(__file__).resolve().parents[1]
 INCLINE = ROOT / "configs" / "scenes" / "incline.yaml"
@@ -151,22 +155,57 @@ def test_the_python_api_runs_a_scene_from_a_file_or_a_dict():
 
 
 def test_bbmc_run_writes_a_paraview_series_that_reads_back(tmp_path):
-    """`bbmc run --vtk`: one blocks and one contacts VTU per record and their PVD collections; read back
-    with meshio, the last record's block displacements and contact stresses are those of blocks.csv and
-    contacts.csv (to 1e-9 m and 1e-9 MPa), and the PVD lists every record at its time."""
+    """`bbmc run --vtk`: one blocks and one contacts VTU per record and their PVD collections, and one
+    line for the folder on stdout. Read back, every array's name carries its unit; the last record's
+    block displacements and contact stresses are those of blocks.csv and contacts.csv (to 1e-9 m and
+    1e-9 MPa); the vertices' displacements lead back to the start (what Warp By Vector takes); group and
+    law names are text arrays, in field data and per block and sub-contact; the PVD lists every record
+    at its time."""
     outcome = CliRunner().invoke(main, ["run", str(INCLINE), "--vtk", "--results", str(tmp_path)])
     assert outcome.exit_code == 0, outcome.output
     folder = tmp_path / "run" / "incline"
     history = pd.read_csv(folder / "history.csv")
     blocks = sorted((folder / "vtk").glob("blocks_*.vtu"))
     assert len(blocks) == len(history) == len(sorted((folder / "vtk").glob("contacts_*.vtu")))
+    assert f"  {folder / 'vtk'}/ ({2 * len(blocks) + 2} files)" in outcome.output.splitlines()
+    assert ".vtu" not in outcome.output
     pvd = (folder / "vtk" / "blocks.pvd").read_text()
     assert pvd.count("<DataSet") == len(history)
     assert f'timestep="{history["time_s"].iloc[-1]:.9g}"' in pvd
-    last = meshio.read(blocks[-1])
+
+    last, texts = read_vtu(blocks[-1])
+    assert set(last.point_data) == {"displacement_m", "velocity_m_s"}
+    assert set(last.cell_data) == {"displacement_m", "velocity_m_s", "rotation_deg", "group_id"}
     table = pd.read_csv(folder / "blocks.csv")
-    moved = np.concatenate(last.cell_data["displacement"])[:, :2]
+    moved = np.concatenate(last.cell_data["displacement_m"])[:, :2]
     np.testing.assert_allclose(moved, table[["ux_mm", "uy_mm"]].to_numpy() * 1e-3, atol=1e-9)
-    contacts = meshio.read(sorted((folder / "vtk").glob("contacts_*.vtu"))[-1])
+    first, _ = read_vtu(blocks[0])
+    start = last.points - last.point_data["displacement_m"]
+    np.testing.assert_allclose(start, first.points, atol=1e-9)
+    assert texts["block"] == texts["group"] == table["group"].tolist() == ["base", "slider"]
+    assert texts["group_names"] == ["base", "slider"] and texts["law_names"] == ["joint"]
+
+    contacts, contact_texts = read_vtu(sorted((folder / "vtk").glob("contacts_*.vtu"))[-1])
+    assert set(contacts.point_data) == {"sigma_n_MPa", "tau_MPa", "slipped", "law_id"}
     active = pd.read_csv(folder / "contacts.csv").query("length_m > 0")
     np.testing.assert_allclose(contacts.point_data["sigma_n_MPa"], active["sigma_n_MPa"], atol=1e-9)
+    assert contact_texts["law"] == active["joint_law"].tolist()
+
+
+def test_the_vertices_displacement_includes_the_blocks_rotation():
+    """Point data for Warp By Vector: a vertex's displacement is its own (the centroid's plus what the
+    rotation adds), and its velocity v + omega x r, for a column turned by 0.3 rad and moved."""
+    model = build_model(api.load_scene(ROOT / "configs" / "scenes" / "toppling_column.yaml"), Path("t.yaml"))
+    start = initial_state(model).world
+    blocks = model.blocks.copy()
+    column = model.block_names.index("column")
+    blocks[column, [L.X, L.Y, L.TH, L.VX, L.VY, L.W]] += [0.2, -0.1, 0.3, 1.0, 0.0, 2.0]
+    world = np.empty_like(start)
+    kernels.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
+    mesh, _ = block_mesh(model, blocks, world)
+    np.testing.assert_allclose(mesh.point_data["displacement_m"][:, :2], world - start, atol=1e-12)
+    mine = model.vertex_block == column
+    arm = world[mine] - blocks[column, [L.X, L.Y]]
+    expected = np.column_stack([1.0 - 2.0 * arm[:, 1], 2.0 * arm[:, 0]])
+    np.testing.assert_allclose(mesh.point_data["velocity_m_s"][mine, :2], expected, atol=1e-12)
+    assert np.ptp(np.hypot(*(world - start)[mine].T)) > 0.1  # the rotation moves the corners differently

@@ -5,4 +5,8 @@ tau >= 0 is its magnitude. Inside the package every quantity is SI (Pa, m, rad, 
 GPa/m and degrees appear only at the boundary (YAML keys, CSV columns, figure axes), see `bbmc.units`.
 """
 
+from bbmc import kernel_cache
+
 __version__ = "0.1.0"
+
+kernel_cache.use_keyed_cache()  # before any kernel is decorated: see `bbmc.kernel_cache`

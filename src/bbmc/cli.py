@@ -61,9 +61,18 @@ def _scene_at_fault(config_path: Path) -> Iterator[None]:
 
 
 def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
+    """One line per file written into `out_dir` itself, and one per folder in it (a ParaView series of
+    hundreds of files is one line: the folder and its file count)."""
     click.echo(f"bbmc {name}: wrote {len(written)} files to {out_dir}/")
+    folders: dict[Path, int] = {}
     for path in written:
-        click.echo(f"  {path}")
+        inner = path.relative_to(out_dir).parts
+        if len(inner) == 1:
+            click.echo(f"  {path}")
+        else:
+            folders[out_dir / inner[0]] = folders.get(out_dir / inner[0], 0) + 1
+    for folder, count in folders.items():
+        click.echo(f"  {folder}/ ({count} files)")
 
 
 def _run_stage(
@@ -375,4 +384,4 @@ def shear_command(config: str | None, results: str, quick: bool) -> None:
         result = shear_stage.run(settings, progress)
         out_dir = Path(results) / name
         written = write_stage(out_dir, result, provenance(name, config_path, settings) | {"quick": quick})
-    _report_written(name, out_dir, [p for p in written if "scenes/" not in str(p)])
+    _report_written(name, out_dir, written)

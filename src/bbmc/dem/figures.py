@@ -1,6 +1,11 @@
-"""Figures of a block run: the blocks before and after, and the monitored histories."""
+"""Figures of a block run: the blocks before and after, and the monitored histories; of a factor of
+safety: its mechanism and its trials. The loads beyond gravity are drawn where a scene has them: the
+phreatic surface as a blue line (level beyond its end points, as the engine extends it) and the
+pseudo-static seismic load as an arrow above the blocks, labelled with its k_h."""
 
 from __future__ import annotations
+
+import math
 
 import matplotlib
 
@@ -8,6 +13,7 @@ matplotlib.use("Agg")
 
 import numpy as np
 import pandas as pd
+from matplotlib.axes import Axes
 from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
@@ -19,14 +25,73 @@ from bbmc.dem.strength_reduction import StrengthReductionResult
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
 
 
+WATER_COLOUR = "tab:blue"
+SEISMIC_COLOUR = "tab:purple"
+SEISMIC_BAND = 0.14  # room above the blocks for the seismic arrow, a fraction of the scene's extent
+
+
 def _outlines(model: Model, world: np.ndarray) -> list[np.ndarray]:
     return [world[a:b] for a, b in zip(model.vertex_start[:-1], model.vertex_start[1:], strict=True)]
 
 
+def _frame(ax: Axes, model: Model, points: np.ndarray) -> None:
+    """Axes limits around `points` [m], with a band above them for the seismic arrow if there is one."""
+    low, high = points.min(axis=0), points.max(axis=0)
+    extent = float(np.ptp(points, axis=0).max())
+    pad = 0.05 * extent
+    band = SEISMIC_BAND * extent if model.scene.seismic is not None else 0.0
+    ax.set_xlim(low[0] - pad, high[0] + pad)
+    ax.set_ylim(low[1] - pad, high[1] + pad + band)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+
+
+def draw_loads(ax: Axes, model: Model, points: np.ndarray) -> None:
+    """The phreatic surface across the axes (a blue line, in the legend) and the seismic load (an arrow
+    in the band `_frame` leaves above `points`, labelled with k_h), where the scene has them."""
+    if model.water_unit_weight > 0.0:
+        surface = model.water_surface
+        left, right = ax.get_xlim()
+        inside = surface[(surface[:, 0] > left) & (surface[:, 0] < right), 0]
+        x = np.concatenate([[left], inside, [right]])
+        ax.plot(
+            x,
+            np.interp(x, surface[:, 0], surface[:, 1]),
+            color=WATER_COLOUR,
+            lw=1.8,
+            zorder=4,
+            label=f"phreatic surface (water {model.water_unit_weight / 1e3:.3g} kN/m³)",
+        )
+    seismic = model.scene.seismic
+    if seismic is not None:
+        extent = float(np.ptp(points, axis=0).max())
+        sign = -1.0 if seismic.towards == "-x" else 1.0
+        left, right = ax.get_xlim()
+        y = points[:, 1].max() + (0.05 + 0.5 * SEISMIC_BAND) * extent
+        length, margin = 0.15 * extent, 0.03 * (right - left)
+        head = (left + margin, y) if sign < 0 else (right - margin, y)  # the label beside its tail
+        tail = (head[0] - sign * length, y)
+        ax.annotate(
+            "",
+            xy=head,
+            xytext=tail,
+            arrowprops={"arrowstyle": "-|>", "color": SEISMIC_COLOUR, "lw": 2.0, "mutation_scale": 15},
+        )
+        ax.annotate(
+            f"  seismic k_h = {seismic.horizontal_coefficient:g} (towards {seismic.towards})  ",
+            xy=tail,
+            ha="left" if sign < 0 else "right",
+            va="center",
+            color=SEISMIC_COLOUR,
+            fontsize="small",
+        )
+
+
 def scene_figure(model: Model, initial: np.ndarray, final: np.ndarray, dof: np.ndarray, dpi: int) -> Figure:
     """Block outlines at the start (dashed) and the end (solid); blocks with every degree of freedom
-    fixed or prescribed are shaded."""
-    fig = Figure(figsize=(8, 6), dpi=dpi)
+    fixed or prescribed are shaded; the water and seismic loads as `draw_loads` draws them."""
+    fig = Figure(figsize=(8, 6), dpi=dpi, layout="constrained")
     ax = fig.subplots()
     held = np.all(dof == L.PRESCRIBED, axis=1)
     colours = np.where(held, "0.8", "white")
@@ -43,43 +108,41 @@ def scene_figure(model: Model, initial: np.ndarray, final: np.ndarray, dof: np.n
         PolyCollection(
             _outlines(model, initial),
             facecolors="none",
-            edgecolors="tab:blue",
+            edgecolors="0.45",
             linewidths=0.6,
             linestyles="--",
             label="start",
         )
     )
     both = np.vstack([initial, final])
-    pad = 0.05 * np.ptp(both, axis=0).max()
-    ax.set_xlim(both[:, 0].min() - pad, both[:, 0].max() + pad)
-    ax.set_ylim(both[:, 1].min() - pad, both[:, 1].max() + pad)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    _frame(ax, model, both)
+    draw_loads(ax, model, both)
     ax.set_title(f"{model.scene.name or 'scene'}: {len(model.block_names)} blocks")
-    ax.legend(loc="best", fontsize="small")
+    fig.legend(loc="outside lower center", ncols=3, fontsize="small")
     return fig
 
 
 def history_figure(history: pd.DataFrame, dpi: int) -> Figure:
-    """Each monitored quantity against step, one panel each (columns named <monitor>_<unit>)."""
+    """Each monitored quantity against time, one panel each (columns named <monitor>_<unit>); the step
+    of each record is in history.csv."""
     columns = [c for c in history.columns if c not in ("step", "time_s")]
-    fig = Figure(figsize=(8, 2.2 * max(len(columns), 1)), dpi=dpi)
+    fig = Figure(figsize=(8, 1.0 + 2.2 * max(len(columns), 1)), dpi=dpi, layout="constrained")
     axes = np.atleast_1d(fig.subplots(max(len(columns), 1), 1, sharex=True, squeeze=False)[:, 0])
     for ax, column in zip(axes, columns, strict=False):
         unit = next((u for u in SUFFIXES if column.endswith("_" + u)), "")
         name = column.removesuffix("_" + unit)
-        ax.plot(history["step"], history[column], "-", color="tab:blue", label=name)
+        ax.plot(history["time_s"], history[column], "-", color="tab:blue", label=name)
         ax.set_ylabel(f"{name} [{unit.replace('_per_', '/').replace('m_s', 'm/s')}]")
         ax.legend(loc="best", fontsize="small")
         ax.grid(alpha=0.3)
-    axes[-1].set_xlabel("step (one cycle)")
+    axes[-1].set_xlabel("time [s]")
     return fig
 
 
 def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) -> Figure:
     """The failure mechanism: every block where the trials start, shaded by how far it has moved at the
-    end of the lowest unstable trial, with its centroid's displacement as an arrow (scaled to be seen)."""
+    end of the lowest unstable trial, with its centroid's displacement as an arrow (scaled to be seen);
+    the title gives the FS (`fos_title`); the water and seismic loads as `draw_loads` draws them."""
     points = result.start_world
     spread = np.ptp(points, axis=0)
     wide = min(max(spread[0] / max(spread[1], 1e-12), 0.6), 2.0)  # the figure follows the scene's shape
@@ -89,11 +152,9 @@ def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) ->
     held = np.all(model.dof == L.PRESCRIBED, axis=1)
     if result.mechanism_world is None:
         moved = np.zeros(len(start))
-        title = "no unstable trial: no mechanism"
     else:
         end = _outlines(model, result.mechanism_world)
         moved = np.array([np.max(np.hypot(*(e - s).T)) for s, e in zip(start, end, strict=True)]) * 1e3
-        title = f"mechanism at F = {result.bracket[1]:.3g} (lowest unstable trial)"
     colours = np.where(held, np.nan, moved)
     cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
     cells = PolyCollection(start, array=colours, cmap=cmap, edgecolors="k", linewidths=0.5)
@@ -105,15 +166,27 @@ def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) ->
         shift = np.array([e.mean(axis=0) for e in end]) - centre
         free = ~held & (np.hypot(*shift.T) > 0)
         ax.quiver(*centre[free].T, *shift[free].T, color="tab:red", angles="xy", width=0.004, zorder=3)
-    pad = 0.05 * spread.max()
-    ax.set_xlim(points[:, 0].min() - pad, points[:, 0].max() + pad)
-    ax.set_ylim(points[:, 1].min() - pad, points[:, 1].max() + pad)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    _frame(ax, model, points)
+    draw_loads(ax, model, points)
+    if ax.get_legend_handles_labels()[0]:
+        fig.legend(loc="outside lower center", fontsize="small")
     name = model.scene.name or "scene"
-    ax.set_title(f"{name}: {title}\narrows: centroid displacements (scaled)", fontsize=9)
+    shown = (
+        "arrows: centroid displacements (scaled)" if result.mechanism_world is not None else "no mechanism"
+    )
+    ax.set_title(f"{name}: {fos_title(result)}\n{shown}", fontsize=9)
     return fig
+
+
+def fos_title(result: StrengthReductionResult) -> str:
+    """The factor of safety and the trial the mechanism comes from: "FS = 1.110, lowest failing trial
+    F = 1.117"; beyond the searched range, the bound it lies beyond."""
+    fs, failing = result.factor_of_safety, result.bracket[1]
+    if result.bracketed:
+        return f"FS = {fs:.3f}, lowest failing trial F = {failing:.3f}"
+    if math.isinf(failing):
+        return f"FS > {fs:.3f}: no trial failed"
+    return f"FS < {fs:.3f}: every trial failed, the lowest at F = {failing:.3f}"
 
 
 def bracketing_figure(result: StrengthReductionResult, dpi: int) -> Figure:

@@ -24,6 +24,7 @@ from bbmc.dem.detection import candidate_pairs, facing_edges, vertex_penetration
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.verdict import Trend
+from bbmc.kernel_cache import announce_engine_compile
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
 RUNAWAY_FRACTION = 0.1  # a block moving this fraction of its size in one step: the run is lost (an
@@ -71,6 +72,7 @@ class RunResult:
 
 
 def initial_state(model: Model) -> State:
+    announce_engine_compile()
     n_sub = model.scene.contacts.sub_contacts_per_edge
     world = np.empty_like(model.local)
     blocks = model.blocks.copy()

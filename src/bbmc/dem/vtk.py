@@ -1,20 +1,31 @@
 """A run as a time series that ParaView opens: one VTU file of the blocks and one of the sub-contacts per
 record step, and a PVD collection of each with the records' times (written with meshio).
 
-* blocks_<k>.vtu: every block a polygon (z = 0) at its position then, with cell data displacement
-  (of the centroid, [m], 3-vector), velocity [m/s], rotation [deg] and group (its index in the
-  scene's sorted group names; the names are in the PVD's comment).
-* contacts_<k>.vtu: every active sub-contact a vertex at its position, with point data sigma_n and
-  tau [MPa], slipped (0 or 1) and law (the joint law's index; the names in the PVD's comment).
+Every array's name carries its unit, as the CSV columns do (`_m`, `_m_s`, `_deg`, `_MPa`); ids and
+flags have none.
+
+* blocks_<k>.vtu: every block a polygon (z = 0) at its position then.
+  Point data (at every vertex; what Warp By Vector and Glyph take): displacement_m (from its start,
+  rotation included, 3-vector) and velocity_m_s (v + omega x r).
+  Cell data (per block): displacement_m and velocity_m_s of the centroid, rotation_deg, group_id (its
+  index in the scene's sorted group names), and the names themselves as text arrays: block and group.
+* contacts_<k>.vtu: every active sub-contact a vertex at its position, with point data sigma_n_MPa,
+  tau_MPa, slipped (0 or 1), law_id (the joint law's index) and law (its name).
+* Both carry field data group_names and law_names: every name, in the order of the ids.
 * blocks.pvd, contacts.pvd: the collections; open either in ParaView and play the series.
+
+meshio writes numbers only; the text arrays are added as VTK's own writer writes a vtkStringArray in
+ASCII (`<Array type="String">`, each string's character codes then 0), which ParaView (VTK's XML reader)
+shows in its spreadsheet and information panels. meshio's own reader (5.3) refuses text arrays: read
+these files with VTK (ParaView, pyvista) or with `read_vtu`.
 """
 
 from __future__ import annotations
 
 import tempfile
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
-from xml.sax.saxutils import escape
 
 import meshio
 import numpy as np
@@ -24,14 +35,26 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 
 
-def block_mesh(model: Model, blocks: np.ndarray, world: np.ndarray) -> meshio.Mesh:
-    """The blocks as polygons, grouped by vertex count (VTK cells of one kind per block of cells)."""
-    points = np.column_stack([world, np.zeros(len(world))])
+def _vector(xy: np.ndarray) -> np.ndarray:
+    return np.column_stack([xy, np.zeros(len(xy))])
+
+
+def block_mesh(model: Model, blocks: np.ndarray, world: np.ndarray) -> tuple[meshio.Mesh, dict]:
+    """The blocks as polygons, grouped by vertex count (VTK cells of one kind per block of cells), and
+    the text arrays of their cells (block and group names, in the cells' order)."""
+    owner = model.vertex_block
+    centroid = blocks[owner][:, [L.X, L.Y]]
+    start = blocks[owner][:, [L.X0, L.Y0]] + model.local  # rotation is measured from the start
+    arm = world - centroid
+    spin = blocks[owner, L.W]
+    vertex_velocity = blocks[owner][:, [L.VX, L.VY]] + np.column_stack([-spin * arm[:, 1], spin * arm[:, 0]])
     counts = np.diff(model.vertex_start)
     order = np.argsort(counts, kind="stable")
-    cells, data = [], {"displacement": [], "velocity": [], "rotation_deg": [], "group": []}
+    cells, data = [], {"displacement_m": [], "velocity_m_s": [], "rotation_deg": [], "group_id": []}
+    members_in_order = []
     for count in np.unique(counts):
         members = order[counts[order] == count]
+        members_in_order.extend(members.tolist())
         cells.append(
             (
                 "polygon",
@@ -39,50 +62,107 @@ def block_mesh(model: Model, blocks: np.ndarray, world: np.ndarray) -> meshio.Me
             )
         )
         moved = blocks[members][:, [L.X, L.Y]] - blocks[members][:, [L.X0, L.Y0]]
-        data["displacement"].append(np.column_stack([moved, np.zeros(len(members))]))
-        data["velocity"].append(np.column_stack([blocks[members][:, [L.VX, L.VY]], np.zeros(len(members))]))
+        data["displacement_m"].append(_vector(moved))
+        data["velocity_m_s"].append(_vector(blocks[members][:, [L.VX, L.VY]]))
         data["rotation_deg"].append(np.degrees(blocks[members, L.TH]))
-        data["group"].append(model.block_group[members].astype(np.int64))
-    return meshio.Mesh(points, cells, cell_data=data)
+        data["group_id"].append(model.block_group[members].astype(np.int64))
+    mesh = meshio.Mesh(
+        _vector(world),
+        cells,
+        point_data={"displacement_m": _vector(world - start), "velocity_m_s": _vector(vertex_velocity)},
+        cell_data=data,
+    )
+    text = {
+        "block": [model.block_names[b] for b in members_in_order],
+        "group": [model.group_names[model.block_group[b]] for b in members_in_order],
+    }
+    return mesh, text
 
 
-def contact_mesh(contacts: np.ndarray, subs: np.ndarray, n_sub: int) -> meshio.Mesh:
-    """The active sub-contacts as vertices with their stresses, slip state and joint law."""
+def contact_mesh(
+    model: Model, contacts: np.ndarray, subs: np.ndarray, n_sub: int
+) -> tuple[meshio.Mesh, dict]:
+    """The active sub-contacts as vertices with their stresses, slip state and joint law, and the text
+    array of their joint laws' names."""
     active = subs[:, L.LENGTH] > 0
-    points = np.column_stack([subs[active][:, [L.CX, L.CY]], np.zeros(int(active.sum()))])
+    points = _vector(subs[active][:, [L.CX, L.CY]])
     law = (
         np.repeat(contacts[:, L.JOINT_TYPE], n_sub)[active] if len(contacts) else np.zeros(0, dtype=np.int64)
-    )
-    return meshio.Mesh(
+    ).astype(np.int64)
+    mesh = meshio.Mesh(
         points,
         [("vertex", np.arange(len(points)).reshape(-1, 1))],
         point_data={
             "sigma_n_MPa": subs[active, L.SN] / units.MPa,
             "tau_MPa": subs[active, L.TAU] / units.MPa,
             "slipped": (subs[active, L.SLIPPED] > 0).astype(np.int64),
-            "law": law.astype(np.int64),
+            "law_id": law,
         },
     )
+    return mesh, {"law": [model.law_names[j] for j in law]}
 
 
-def _collection(names: list[str], times: list[float], legend: str) -> str:
+def _text_array(parent: ET.Element, name: str, values: list[str], with_count: bool) -> None:
+    """Append a vtkStringArray in VTK's ASCII form: each string's character codes (UTF-8), then 0."""
+    array = ET.SubElement(parent, "Array", type="String", Name=name, format="ascii")
+    if with_count:
+        array.set("NumberOfTuples", str(len(values)))
+    array.text = " ".join(" ".join([*map(str, value.encode()), "0"]) for value in values)
+
+
+def _vtu_bytes(
+    mesh: meshio.Mesh, texts: dict[str, list[str]], where: str, names: dict[str, list[str]]
+) -> bytes:
+    """The mesh as VTU (meshio), with the text arrays `texts` added to its `where` ("CellData" or
+    "PointData") and the name lists `names` as field data."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "mesh.vtu"
+        meshio.write(path, mesh, binary=True)
+        tree = ET.parse(path)
+    grid = tree.getroot().find("UnstructuredGrid")
+    piece = grid.find("Piece")
+    fields = ET.Element("FieldData")
+    for name, values in names.items():
+        _text_array(fields, name, values, with_count=True)
+    grid.insert(0, fields)
+    data = piece.find(where)
+    if data is None:
+        data = ET.SubElement(piece, where)
+    for name, values in texts.items():
+        _text_array(data, name, values, with_count=False)
+    return ET.tostring(tree.getroot(), xml_declaration=True, encoding="utf-8")
+
+
+def _decoded(text: str | None) -> list[str]:
+    codes = bytes(int(code) for code in (text or "").split())
+    return [value.decode() for value in codes.split(b"\0")[:-1]]
+
+
+def read_vtu(path: Path) -> tuple[meshio.Mesh, dict[str, list[str]]]:
+    """A VTU file of a series read back: its numbers (meshio) and its text arrays by name (field,
+    cell and point data alike)."""
+    tree = ET.parse(path)
+    texts = {}
+    for parent in tree.getroot().iter():
+        for array in [child for child in parent if child.tag == "Array" and child.get("type") == "String"]:
+            texts[array.get("Name")] = _decoded(array.text)
+            parent.remove(array)
+    with tempfile.TemporaryDirectory() as folder:
+        numbers = Path(folder) / "numbers.vtu"
+        tree.write(numbers)
+        return meshio.read(numbers), texts
+
+
+def _collection(names: list[str], times: list[float]) -> str:
     rows = "\n".join(
         f'    <DataSet timestep="{t:.9g}" group="" part="0" file="{name}"/>'
         for name, t in zip(names, times, strict=True)
     )
     return (
         '<?xml version="1.0"?>\n'
-        f"<!-- {escape(legend)} -->\n"
         '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
         f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n"
     )
-
-
-def _vtu_bytes(mesh: meshio.Mesh) -> bytes:
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "mesh.vtu"
-        meshio.write(path, mesh, binary=True)
-        return path.read_bytes()
 
 
 @dataclass
@@ -102,22 +182,21 @@ class Series:
             return
         k = len(self.times)
         self.times.append(float(state.clock[L.TIME]))
-        blocks = block_mesh(self.model, state.blocks, state.world)
-        contacts = contact_mesh(state.contacts, state.subs, state.n_sub)
-        self.files[f"{self.folder}/blocks_{k:05d}.vtu"] = _vtu_bytes(blocks)
-        self.files[f"{self.folder}/contacts_{k:05d}.vtu"] = _vtu_bytes(contacts)
+        names = {"group_names": self.model.group_names, "law_names": self.model.law_names}
+        blocks, block_text = block_mesh(self.model, state.blocks, state.world)
+        contacts, contact_text = contact_mesh(self.model, state.contacts, state.subs, state.n_sub)
+        self.files[f"{self.folder}/blocks_{k:05d}.vtu"] = _vtu_bytes(blocks, block_text, "CellData", names)
+        self.files[f"{self.folder}/contacts_{k:05d}.vtu"] = _vtu_bytes(
+            contacts, contact_text, "PointData", names
+        )
 
     def collections(self) -> dict[str, bytes | str]:
         """The files of every record and the two PVD collections."""
         n = len(self.times)
-        groups = "group: " + ", ".join(f"{i} {g}" for i, g in enumerate(self.model.group_names))
-        laws = "law: " + ", ".join(f"{i} {name}" for i, name in enumerate(self.model.law_names))
         return {
             **self.files,
-            f"{self.folder}/blocks.pvd": _collection(
-                [f"blocks_{k:05d}.vtu" for k in range(n)], self.times, groups
-            ),
+            f"{self.folder}/blocks.pvd": _collection([f"blocks_{k:05d}.vtu" for k in range(n)], self.times),
             f"{self.folder}/contacts.pvd": _collection(
-                [f"contacts_{k:05d}.vtu" for k in range(n)], self.times, laws
+                [f"contacts_{k:05d}.vtu" for k in range(n)], self.times
             ),
         }
