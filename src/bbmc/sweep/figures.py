@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter, LogFormatter
 from numpy.typing import ArrayLike
 
 from bbmc import plots  # noqa: F401  (selects the Agg backend before any figure is drawn)
@@ -138,6 +139,8 @@ def convergence_figure(table: pd.DataFrame, dpi: int) -> Figure:
         ax.plot(n, value, color=colour, marker="o", markersize=3, label="over the first n samples")
         ax.axhline(value[-1], color="k", linestyle=":", linewidth=1.0, label=f"all {int(n[-1])} samples")
         ax.set_xscale("log")
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+        ax.xaxis.set_minor_formatter(LogFormatter(labelOnlyBase=False))  # labels within one decade only
         ax.set(xlabel="number of samples n (-)", ylabel=ylabel, title=title)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=8, loc="upper right")
