@@ -4,6 +4,7 @@ samples recorded, bad input refused. Each tolerance is stated where it is used."
 
 from __future__ import annotations
 
+import copy
 import math
 import os
 import signal
@@ -187,3 +188,145 @@ def test_toppling_probability_of_failure_is_that_of_phi_below_its_limit(tmp_path
     limit = math.degrees(tp.limiting_friction(tp.regular_system(10.0, math.radians(30.0), 10, 5.0, 5.0, 1.0)))
     exact = norm.cdf((limit - 40.0) / 3.0)
     assert abs(summary["probability_of_failure"] - exact) <= 4 * summary["standard_error"]
+
+
+# Checks before any work, impossible inputs, truncation, a study that gives nothing ----------------------
+
+
+def _refused(config: Path, results: Path, *fragments: str) -> None:
+    """Exit 2 with one line naming each fragment, nothing written."""
+    outcome = CliRunner().invoke(main, ["sweep", "--config", str(config), "--results", str(results)])
+    assert outcome.exit_code == 2, outcome.output
+    assert len(outcome.output.strip().splitlines()) == 1, outcome.output
+    for fragment in fragments:
+        assert fragment in outcome.output, outcome.output
+    assert not results.exists()
+
+
+def _wide_friction(samples: int, **variable) -> dict:
+    """The planar block with tan phi ~ N(0.8, 0.5): 5.5 % of the normal lies below 0."""
+    data = _planar(samples, samples)
+    data["variables"] = [
+        {"path": "strength.tan_friction", "distribution": "normal", "mean": 0.8, "std": 0.5, **variable}
+    ]
+    return data
+
+
+def test_a_scene_run_monitor_that_does_not_exist_is_refused_before_any_run(tmp_path):
+    """`monitor: slider_x` where the history's column is slider_x_mm: exit 2 naming base.monitor and the
+    closest column, before any sample runs (before, every sample failed with a KeyError and the study
+    ended with status 0)."""
+    study = {
+        "name": "incline_run",
+        "base": {"kind": "scene_run", "scene": str(ROOT / "configs" / "scenes" / "incline.yaml"),
+                 "monitor": "slider_x"},
+        "variables": [{"path": "joint_laws.joint.friction_deg", "distribution": "normal", "mean": 20.0,
+                       "std": 2.0}],
+        "sampling": {"method": "monte_carlo", "samples": 4, "seed": 1},
+    }  # fmt: skip
+    _refused(_config(tmp_path, study), tmp_path / "out", "'base.monitor'", "did you mean 'slider_x_mm'")
+
+
+def test_a_base_scene_that_fails_its_checks_is_refused_naming_the_scene(tmp_path):
+    """A misspelt key in the base scene: the scene's own one-line error, before any sample runs."""
+    scene = copy.deepcopy(fc.block_on_plane(fc.MOHR_COULOMB, 0.8, 0.2))  # it shares its solver section
+    scene["solver"]["stepz"] = scene["solver"].pop("steps")
+    _scene_study(tmp_path, 4)  # writes scene.yaml and study.yaml
+    _config(tmp_path, scene, "scene.yaml")
+    _refused(tmp_path / "study.yaml", tmp_path / "out", "scene.yaml", "solver.stepz")
+
+
+def test_inputs_that_cannot_be_sampled_within_their_range_are_refused(tmp_path):
+    """A distribution with almost none of its probability where its key is defined, a grid value
+    outside the range, a whole-number key given a distribution: exit 2 naming the entry."""
+    data = _planar(100, 50)
+    data["variables"][0].update(mean=-5.0, std=0.1)
+    _refused(_config(tmp_path, data), tmp_path / "out", "'variables.0'", "accepts > 0")
+    grid = _planar(100, 50)
+    grid.pop("variables")
+    grid["sampling"] = {"method": "grid"}
+    grid["grid"] = [{"path": "strength.tan_friction", "values": [0.5, -0.1]}]
+    _refused(_config(tmp_path, grid), tmp_path / "out", "'grid.0.values'", "-0.1")
+    scene = _scene_study(tmp_path, 4)
+    data = yaml.safe_load(scene.read_text())
+    data["variables"][0]["path"] = "solver.steps"
+    _refused(_config(tmp_path, data), tmp_path / "out", "'variables.0.path'", "whole numbers")
+
+
+def test_a_study_in_which_no_sample_gives_a_result_exits_4_with_its_first_errors(tmp_path):
+    """Every crack drawn below the toe: exit 4, the counts and the first error on stderr, the finished
+    batches kept (each sample's error) and no results folder."""
+    data = _planar(100, 50)
+    data["base"]["crack_depth_m"] = 5.0
+    data["variables"] = [{"path": "crack_depth_m", "distribution": "uniform", "min": 21.0, "max": 25.0}]
+    outcome = CliRunner().invoke(
+        main, ["sweep", "--config", str(_config(tmp_path, data)), "--results", str(tmp_path / "out")]
+    )
+    assert outcome.exit_code == 4, outcome.output
+    assert "no sample gave a result: 100 of 100 failed to run" in outcome.output
+    assert "sample 0 (and 99 more): no planar block: the crack depth" in outcome.output
+    assert not (tmp_path / "out" / "sweep" / "planar_block").exists()
+    assert len(list((tmp_path / "out" / "sweep" / "planar_block.progress").glob("*/batch_*.csv"))) == 2
+
+
+def test_impossible_samples_drawn_without_truncation_are_counted_and_not_run(tmp_path):
+    """tan phi ~ N(0.8, 0.5) with `truncate: false`: the samples drawn at or below 0 are not run,
+    carry their error, are counted in summary.csv and in one line on stderr; P_f is that of the others.
+    (Before, they ran and gave a negative FS counted as a failure.)"""
+    outcome, out = _sweep(_config(tmp_path, _wide_friction(2000, truncate=False)), tmp_path, "--workers", "1")
+    samples = pd.read_csv(out / "planar_block" / "samples.csv", keep_default_na=False, na_values=["nan", ""])
+    summary = pd.read_csv(out / "planar_block" / "summary.csv").set_index("quantity")["value"]
+    bad = samples["strength.tan_friction"] <= 0.0
+    assert 60 < bad.sum() < 160  # 5.5 % of 2000 = 110
+    assert samples.loc[bad, "error"].str.startswith("impossible input: strength.tan_friction = -").all()
+    assert samples.loc[bad, "factor_of_safety"].isna().all() and samples.loc[~bad, "error"].isna().all()
+    assert summary["impossible_samples"] == bad.sum() and summary["failed_runs"] == 0
+    assert summary["valid_samples"] == 2000 - bad.sum()
+    fs = samples.loc[~bad, "factor_of_safety"]
+    assert summary["probability_of_failure"] == pytest.approx((fs < 1.0).mean(), rel=1e-12)
+    line = (
+        f"{bad.sum()} of 2000 samples have impossible inputs (strength.tan_friction outside > 0: {bad.sum()})"
+    )
+    assert line in outcome.output
+
+
+def test_inputs_are_truncated_to_their_range_by_default_and_the_truncation_recorded(tmp_path):
+    """tan phi ~ N(0.8, 0.5) truncated at 0 (the default): no impossible sample; summary.csv records
+    the bound and the probability left out, Phi(-1.6) = 0.0548; P_f is the truncated normal's closed
+    form P(tan phi < tan 35 | tan phi > 0) = 0.3873 within 4 standard errors (measured 0.3834 at 10^4
+    Monte Carlo samples, 0.8 SE); the FS at the mean inputs is the truncated mean's, 0.85868 / tan 35
+    (rel 1e-9); beta from P_f is -Phi^-1(P_f); convergence.csv ends on the whole study's values."""
+    outcome, out = _sweep(_config(tmp_path, _wide_friction(10_000)), tmp_path, "--workers", "1")
+    summary = pd.read_csv(out / "planar_block" / "summary.csv").set_index("quantity")
+    value = summary["value"]
+    tan_psi = math.tan(math.radians(35.0))
+    cut = norm.cdf(-1.6)
+    assert value["impossible_samples"] == 0 and value["valid_samples"] == 10_000
+    assert value["truncation.strength.tan_friction.min"] == 0.0
+    assert value["truncation.strength.tan_friction.probability_cut"] == pytest.approx(cut, rel=1e-12)
+    assert "truncation.strength.tan_friction.max" not in value  # no upper bound
+    exact = (norm.cdf((tan_psi - 0.8) / 0.5) - cut) / (1.0 - cut)
+    assert abs(value["probability_of_failure"] - exact) <= 4 * value["standard_error"]
+    assert value["pf_ci_low"] <= exact <= value["pf_ci_high"]
+    truncated_mean = 0.8 + 0.5 * norm.pdf(-1.6) / norm.sf(-1.6)
+    assert value["fs_at_mean_inputs"] == pytest.approx(truncated_mean / tan_psi, rel=1e-9)
+    assert value["reliability_index_pf"] == pytest.approx(-norm.ppf(value["probability_of_failure"]))
+    assert "truncated to > 0, which leaves out 0.0548 of its probability" in outcome.output
+    convergence = pd.read_csv(out / "planar_block" / "convergence.csv")
+    assert convergence["samples"].iloc[-1] == 10_000
+    assert convergence["probability_of_failure"].iloc[-1] == value["probability_of_failure"]
+    assert convergence["mean_fs"].iloc[-1] == pytest.approx(value["mean_fs"], rel=1e-12)
+    assert (out / "planar_block" / "convergence.png").stat().st_size > 10_000
+
+
+def test_no_failure_in_a_large_study_gives_the_exact_upper_bound(tmp_path):
+    """configs/sweeps/paper_slope_le.yaml: 10^5 samples, none below FS 1: P_f = 0, its 95 % interval
+    [0, 1 - 0.025^(1/n)] = [0, 3.69e-5] (Clopper-Pearson, two-sided), beta from P_f infinite and at
+    least 3.96 at 95 %; the moment betas 6.47 and 9.07."""
+    outcome, out = _sweep(ROOT / "configs" / "sweeps" / "paper_slope_le.yaml", tmp_path, "--workers", "1")
+    value = pd.read_csv(out / "paper_slope_le" / "summary.csv").set_index("quantity")["value"]
+    assert value["probability_of_failure"] == 0.0 and value["pf_ci_low"] == 0.0
+    assert value["pf_ci_high"] == pytest.approx(1.0 - 0.025 ** (1.0 / 100_000), rel=1e-9)
+    assert value["reliability_index_pf"] == math.inf
+    assert value["reliability_index_pf_lower_bound"] == pytest.approx(-norm.ppf(3.6888e-5), abs=1e-3)
+    assert "P_f = 0 (95 % CI 0 to 3.69e-05)" in outcome.output

@@ -12,9 +12,12 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from bbmc.sweep import design, figures
+from bbmc.dem.scene import Scene
+from bbmc.sweep import design, figures, ranges
 from bbmc.sweep import statistics as sweep_stats
+from bbmc.sweep.config import Planar
 from bbmc.sweep.design import correlate, grid_table, marginal, saltelli_table, sample_table, unit_samples
+from bbmc.sweep.ranges import key_range
 
 TAN_PSI = math.tan(math.radians(35.0))  # the planar block's plane, psi = 35 deg
 
@@ -30,7 +33,7 @@ def _block_fs(tan_phi):
 def test_monte_carlo_probability_of_failure_matches_closed_form():
     """tan(phi) ~ N(0.8, 0.15) makes FS exactly normal: mu = 0.8 / tan 35, sigma = 0.15 / tan 35,
     P_f = Phi((1 - mu) / sigma) = 0.2532. 10^4 Monte Carlo samples: |P_f - exact| <= 4 standard errors,
-    and the Wilson 95 % interval covers the exact value."""
+    and the Clopper-Pearson 95 % interval covers the exact value."""
     table = sample_table([("tan_phi", marginal("normal", mean=0.8, std=0.15))], 10_000, "monte_carlo", 11)
     fs = _block_fs(table["tan_phi"])
     result = sweep_stats.failure_statistics(fs, np.zeros(fs.size, dtype=bool))
@@ -241,18 +244,93 @@ def test_saltelli_table_refuses_n_not_a_power_of_2():
         saltelli_table(VARIABLES, 100, 0)
 
 
+# 5b. truncation to the range a key accepts --------------------------------------------------------------
+
+
+def test_truncated_normal_mean_ppf_and_cut_against_closed_forms():
+    """N(0.8, 0.5) truncated at 0 (a tan phi), renormalised: mean mu + sigma phi(a) / (1 - Phi(a)),
+    a = -mu / sigma (Johnson, Kotz & Balakrishnan 1994) = 0.85868 (rel 1e-9); the probability left out
+    Phi(a) = 0.05480; the quantiles those of scipy's truncnorm (abs 1e-9 where |x| < 10). 10^4 Latin
+    hypercube samples stay above 0 and their mean is the closed form within 1e-3 (LHS integrates the
+    mean almost exactly)."""
+    mu, sigma = 0.8, 0.5
+    a = -mu / sigma
+    cut = design.Truncated(stats.norm(mu, sigma), 0.0, math.inf)
+    exact = mu + sigma * stats.norm.pdf(a) / stats.norm.sf(a)
+    assert cut.mean() == pytest.approx(exact, rel=1e-9)
+    assert cut.probability_cut == pytest.approx(stats.norm.cdf(a), rel=1e-12)
+    u = np.linspace(0.001, 0.999, 999)
+    assert cut.ppf(u) == pytest.approx(stats.truncnorm(a, np.inf, loc=mu, scale=sigma).ppf(u), abs=1e-9)
+    x = sample_table([("tan_phi", cut)], 10_000, "latin_hypercube", 4)["tan_phi"]
+    assert x.min() > 0.0 and x.mean() == pytest.approx(exact, abs=1e-3)
+
+
+def test_truncation_deep_in_a_tail_keeps_its_precision():
+    """N(-5, 1) truncated at 0 keeps 2.9e-7 of its probability: its quantiles equal truncnorm's to rel
+    1e-9 (the upper tail is sampled through the survival function), its mean is truncnorm's."""
+    cut = design.Truncated(stats.norm(-5.0, 1.0), 0.0, math.inf)
+    reference = stats.truncnorm(5.0, np.inf, loc=-5.0, scale=1.0)
+    u = np.array([1e-9, 0.01, 0.5, 0.99, 1.0 - 1e-9])
+    assert cut.ppf(u) == pytest.approx(reference.ppf(u), rel=1e-9)
+    assert cut.mean() == pytest.approx(reference.mean(), rel=1e-6)
+    assert 1.0 - cut.probability_cut == pytest.approx(stats.norm.sf(5.0), rel=1e-9)
+
+
+def test_truncated_uniform_is_the_uniform_on_the_overlap():
+    """U(-1, 5) truncated to [0, 90) is U(0, 5): quantiles 5u, mean 2.5, a sixth of it left out."""
+    cut = design.truncation(marginal("uniform", min=-1.0, max=5.0), 0.0, 90.0)
+    u = np.linspace(0.01, 0.99, 50)
+    assert cut.ppf(u) == pytest.approx(5.0 * u, rel=1e-12)
+    assert cut.mean() == pytest.approx(2.5, rel=1e-9) and cut.probability_cut == pytest.approx(1 / 6)
+
+
+def test_a_distribution_within_the_range_is_not_truncated_and_one_outside_it_is_refused():
+    assert design.truncation(marginal("lognormal", mean=3.87, std=0.774), 0.0, math.inf) is None
+    assert design.truncation(marginal("uniform", min=0.0, max=5.0), 0.0, math.inf) is None
+    assert design.truncation(marginal("truncated_normal", mean=2, std=0.5, min=0.5, max=5), 0, 20) is None
+    with pytest.raises(ValueError, match="almost none"):
+        design.truncation(marginal("normal", mean=-10.0, std=0.5), 0.0, math.inf)
+
+
+def test_key_ranges_come_from_the_config_models():
+    """The range of a key is its own check: a scene's constant joint (cohesion >= 0, friction in
+    [0, 90) deg), a Barton-Bandis strength through its law's variant (JRC in [0, 20]), a whole-number
+    key, a key without bounds; the planar base (tan phi > 0, water fill in [0, 1])."""
+    scene = {
+        "joint_laws": {
+            "plane": {"law": "constant", "kn_MPa_per_mm": 1.0, "ks_MPa_per_mm": 1.0, "cohesion_MPa": 0.1,
+                      "friction_deg": 35.0},
+            "bb": {"law": "barton_bandis", "strength": {"jrc": 8.0, "jcs_MPa": 50.0, "phi_b_deg": 30.0}},
+        },
+        "solver": {"steps": 1000},
+        "blocks": [{"name": "b", "material": "rock", "rotate_deg": 5.0}],
+    }  # fmt: skip
+    assert str(key_range(Scene, scene, "joint_laws.plane.cohesion_MPa")) == ">= 0"
+    assert key_range(Scene, scene, "joint_laws.plane.friction_deg") == ranges.Range(0.0, 90.0, False, True)
+    assert str(key_range(Scene, scene, "joint_laws.bb.strength.jrc")) == ">= 0 and <= 20"
+    assert key_range(Scene, scene, "solver.steps").integer
+    assert str(key_range(Scene, scene, "blocks.0.rotate_deg")) == "any number"
+    planar = {"strength": {"law": "mohr_coulomb", "tan_friction": 0.8}, "water_fill": 0.5}
+    accepted = key_range(Planar, planar, "strength.tan_friction")
+    assert str(accepted) == "> 0" and accepted.contains([-0.1, 0.0, 0.2]).tolist() == [False, False, True]
+    assert str(key_range(Planar, planar, "water_fill")) == ">= 0 and <= 1"
+
+
 # 6. statistics --------------------------------------------------------------------------------------------
 
 
 def test_failure_statistics_against_hand_values():
-    """FS = 0.8, 1.2, 1.4, 1.6 and one failed run: mean 1.25, std sqrt(0.35 / 3) (ddof 1), P_f = 1/4;
-    the indices by hand; all to rel 1e-12. Wilson for 1 of 4 by hand: 0.0456, 0.6994 (abs 5e-5)."""
-    fs = np.array([0.8, 1.2, np.nan, 1.4, 1.6])
-    errors = np.array([False, False, True, False, False])
-    result = sweep_stats.failure_statistics(fs, errors)
+    """FS = 0.8, 1.2, 1.4, 1.6, one failed run and one sample of impossible inputs: mean 1.25, std
+    sqrt(0.35 / 3) (ddof 1), P_f = 1/4; the indices by hand; all to rel 1e-12. Clopper-Pearson for 1
+    of 4: low = 1 - 0.975^(1/4) (the k = 1 closed form), high the p at which P(X <= 1) = 0.025."""
+    fs = np.array([0.8, 1.2, np.nan, 1.4, 1.6, np.nan])
+    errors = np.array([False, False, True, False, False, False])
+    impossible = np.array([False, False, False, False, False, True])
+    result = sweep_stats.failure_statistics(fs, errors, impossible)
     std = math.sqrt(0.35 / 3.0)
     v = std / 1.25
-    assert result["samples"] == 5 and result["failed_runs"] == 1 and result["valid_samples"] == 4
+    assert result["samples"] == 6 and result["failed_runs"] == 1 and result["valid_samples"] == 4
+    assert result["impossible_samples"] == 1
     assert result["mean_fs"] == pytest.approx(1.25, rel=1e-12)
     assert result["std_fs"] == pytest.approx(std, rel=1e-12)
     assert result["probability_of_failure"] == 0.25
@@ -260,18 +338,74 @@ def test_failure_statistics_against_hand_values():
     assert result["reliability_index_normal"] == pytest.approx(0.25 / std, rel=1e-12)
     expected_ln = math.log(1.25 / math.sqrt(1.0 + v * v)) / math.sqrt(math.log(1.0 + v * v))
     assert result["reliability_index_lognormal"] == pytest.approx(expected_ln, rel=1e-12)
-    assert result["pf_ci_low"] == pytest.approx(0.0456, abs=5e-5)
-    assert result["pf_ci_high"] == pytest.approx(0.6994, abs=5e-5)
+    assert result["pf_ci_low"] == pytest.approx(1.0 - 0.975**0.25, rel=1e-9)
+    assert stats.binom.cdf(1, 4, result["pf_ci_high"]) == pytest.approx(0.025, rel=1e-9)
+    assert result["reliability_index_pf"] == pytest.approx(-stats.norm.ppf(0.25), rel=1e-12)
+    assert result["reliability_index_pf_lower_bound"] == pytest.approx(
+        -stats.norm.ppf(result["pf_ci_high"]), rel=1e-12
+    )
 
 
 @pytest.mark.parametrize(
     ("failures", "n", "low", "high"),
-    [(81, 263, 0.2553, 0.3662), (15, 148, 0.0624, 0.1605), (0, 20, 0.0, 0.1611), (1, 29, 0.0061, 0.1718)],
+    [(81, 263, 0.2527, 0.3676), (15, 148, 0.0578, 0.1617), (0, 20, 0.0, 0.1684), (1, 29, 0.0009, 0.1776)],
 )
-def test_wilson_interval_against_newcombe_1998(failures, n, low, high):
-    """Newcombe (1998, Stat. Med. 17:857, Table II, method 3: Wilson score without continuity
-    correction), printed to 4 decimals: abs 5e-5."""
-    assert sweep_stats.wilson_interval(failures, n) == pytest.approx((low, high), abs=5e-5)
+def test_clopper_pearson_interval_against_newcombe_1998(failures, n, low, high):
+    """Newcombe (1998, Stat. Med. 17:857, Table II, method 5: the exact Clopper-Pearson interval),
+    printed to 4 decimals: abs 5e-5."""
+    assert sweep_stats.clopper_pearson_interval(failures, n) == pytest.approx((low, high), abs=5e-5)
+
+
+@pytest.mark.parametrize("n", [3, 32, 256, 100_000])
+def test_clopper_pearson_interval_with_no_failure_and_with_all(n):
+    """No failure in n: [0, 1 - 0.025^(1/n)] (3.69e-5 at n = 10^5, where Wilson's upper end is 3.84e-5
+    and the one-sided 95 % bound 1 - 0.05^(1/n) is 3.00e-5); every sample failing: [0.025^(1/n), 1].
+    rel 1e-9."""
+    low, high = sweep_stats.clopper_pearson_interval(0, n)
+    assert low == 0.0 and high == pytest.approx(1.0 - 0.025 ** (1.0 / n), rel=1e-9)
+    low, high = sweep_stats.clopper_pearson_interval(n, n)
+    assert high == 1.0 and low == pytest.approx(0.025 ** (1.0 / n), rel=1e-9)
+    if n == 100_000:
+        assert float(sweep_stats.clopper_pearson_interval(0, n)[1]) == pytest.approx(3.689e-5, abs=1e-8)
+
+
+def test_clopper_pearson_interval_refuses_impossible_counts():
+    for failures, n in ((5, 4), (-1, 4), (0, 0)):
+        with pytest.raises(ValueError, match="failures"):
+            sweep_stats.clopper_pearson_interval(failures, n)
+
+
+def test_reliability_index_from_probability():
+    """beta = -Phi^-1(P_f): 0 at 1/2, 1.6449 at 0.05 (the normal table), +inf at 0, -inf at 1."""
+    beta = sweep_stats.reliability_index_from_probability([0.5, 0.05, 0.0, 1.0])
+    assert beta[0] == pytest.approx(0.0, abs=1e-15) and beta[1] == pytest.approx(1.644854, abs=1e-6)
+    assert beta[2] == math.inf and beta[3] == -math.inf
+
+
+def test_convergence_against_hand_counts():
+    """FS 0.5, 1.5, (failed), 2.0, 0.8 in design order: over the first 1, 2, 3 and 5 samples the valid
+    counts are 1, 2, 2, 4, the failures 1, 1, 1, 2, the means 0.5, 1.0, 1.0, 1.2; the last row is the
+    whole study's `failure_statistics` (P_f, its interval, mean FS: rel 1e-12)."""
+    fs = np.array([0.5, 1.5, np.nan, 2.0, 0.8])
+    excluded = np.isnan(fs)
+    table = sweep_stats.convergence(fs, excluded, [1, 2, 3, 5])
+    assert table["valid_samples"].tolist() == [1, 2, 2, 4]
+    assert table["failures"].tolist() == [1, 1, 1, 2]
+    assert table["mean_fs"].to_numpy() == pytest.approx([0.5, 1.0, 1.0, 1.2], rel=1e-12)
+    assert math.isnan(table["mean_fs_ci_low"].iloc[0])  # one valid sample has no spread
+    whole = sweep_stats.failure_statistics(fs, excluded)
+    last = table.iloc[-1]
+    for column in ("probability_of_failure", "pf_ci_low", "pf_ci_high", "mean_fs"):
+        assert last[column] == pytest.approx(whole[column], rel=1e-12)
+    half = stats.norm.ppf(0.975) * whole["std_fs"] / 2.0
+    assert last["mean_fs_ci_high"] - last["mean_fs"] == pytest.approx(half, rel=1e-9)
+
+
+def test_convergence_counts_span_the_study():
+    counts = sweep_stats.convergence_counts(100_000)
+    assert counts[0] == 10 and counts[-1] == 100_000 and np.all(np.diff(counts) > 0) and len(counts) <= 41
+    assert sweep_stats.convergence_counts(4).tolist() == [4]
+    assert sweep_stats.convergence_counts(20)[-1] == 20
 
 
 def test_failure_statistics_edge_rules():
@@ -285,7 +419,8 @@ def test_failure_statistics_edge_rules():
     stable = sweep_stats.failure_statistics(np.full(3, 1.5), ok)
     assert stable["std_fs"] == 0.0 and stable["probability_of_failure"] == 0.0
     assert stable["reliability_index_normal"] == math.inf == stable["reliability_index_lognormal"]
-    assert stable["pf_ci_low"] == 0.0 and 0.0 < stable["pf_ci_high"] < 1.0  # Wilson: 0 of 3 -> [0, 0.56]
+    assert stable["pf_ci_low"] == 0.0 and stable["pf_ci_high"] == pytest.approx(1.0 - 0.025 ** (1 / 3))
+    assert stable["reliability_index_pf"] == math.inf
     failing = sweep_stats.failure_statistics(np.full(3, 0.5), ok)
     assert failing["reliability_index_normal"] == -math.inf == failing["reliability_index_lognormal"]
     limit = sweep_stats.failure_statistics(np.full(3, 1.0), ok)
@@ -369,11 +504,31 @@ def test_figures_build_and_save(tmp_path):
     errors[:5], fs[:5] = True, np.nan
     summary = sweep_stats.failure_statistics(fs, errors)
     rho = sweep_stats.spearman(table, fs)
+    convergence = sweep_stats.convergence(fs, errors, sweep_stats.convergence_counts(fs.size))
     for name, fig in (
         ("tornado", figures.tornado_figure(rho, dpi=100)),
         ("distribution", figures.distribution_figure(fs, summary, dpi=100)),
+        ("convergence", figures.convergence_figure(convergence, dpi=100)),
     ):
         assert fig.axes and all(ax.has_data() for ax in fig.axes)
         path = tmp_path / f"{name}.png"
         fig.savefig(path)
         assert path.stat().st_size > 10_000
+
+
+def test_a_probability_of_failure_of_zero_is_printed_with_its_upper_bound():
+    """10^5 samples, none failing: the title gives P_f = 0 with its 95 % interval 0-3.69e-05 (never
+    0.0000-0.0000), beta from P_f as its lower bound 3.96, and the FS at the mean inputs."""
+    fs = np.linspace(1.5, 2.5, 100_000)
+    summary = sweep_stats.failure_statistics(fs, np.zeros(fs.size, dtype=bool)) | {"fs_at_mean_inputs": 2.0}
+    title = figures.distribution_figure(fs, summary, dpi=60).get_suptitle()
+    assert "$P_f$ = 0 (95 % CI 0–3.69e-05)" in title and "0.0000" not in title
+    assert "$\\geq$ 3.96" in title and "FS at the mean inputs = 2.000" in title
+    counts = sweep_stats.convergence_counts(fs.size)
+    table = sweep_stats.convergence(fs, np.zeros(fs.size, dtype=bool), counts)
+    assert "95 % CI 0–3.69e-05" in figures.convergence_figure(table, dpi=60).get_suptitle()
+
+
+@pytest.mark.parametrize(("p", "text"), [(0.0, "0"), (1.0, "1"), (3.6888e-5, "3.69e-05"), (0.25239, "0.252")])
+def test_probability_text(p, text):
+    assert figures.probability_text(p) == text

@@ -34,13 +34,16 @@ from bbmc.stages import sweep as sweep_stage
 @contextmanager
 def _reported(name: str) -> Iterator[None]:
     """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
-    config, an input file, an unusable time step), 3 for a run that went unstable, 1 for a failed
-    write."""
+    config, an input file, an unusable time step), 3 for a run that went unstable, 4 for a study in
+    which no sample gave a result (its first errors, a few lines), 1 for a failed write."""
     try:
         yield
     except ConfigError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
         sys.exit(2)
+    except sweep_stage.NoValidSampleError as error:
+        click.echo(f"bbmc {name}: error: {error}", err=True)
+        sys.exit(4)
     except SimulationError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
         sys.exit(2 if error.bad_input else 3)
@@ -289,10 +292,12 @@ def sweep_command(config: str | None, results: str, scheduler: str | None, worke
     Example:
       bbmc sweep --config configs/sweeps/planar_block.yaml
       bbmc sweep --config configs/sweeps/planar_block.yaml --scheduler tcp://127.0.0.1:8786
-    writes results/sweep/<name>/samples.csv, summary.csv (mean and std of FS, P_f with its 95 %
-    interval, reliability indices), sensitivity.csv, fs_distribution.png, tornado.png,
+    writes results/sweep/<name>/samples.csv, summary.csv (FS at the mean inputs, mean and std of FS,
+    P_f with its 95 % interval, reliability indices, impossible samples, truncations),
+    convergence.csv, convergence.png, sensitivity.csv, fs_distribution.png, tornado.png,
     provenance.json. Finished batches are kept in results/sweep/<name>.progress/: the same command
     run again after an interruption runs only the missing samples. Progress and the time left on stderr.
+    Exit status 4 (nothing written) if no sample gave a result, with the first errors.
     """
     if config is None:
         raise click.UsageError("give the study with --config SWEEP.yaml")

@@ -94,7 +94,10 @@ class Variable(Section):
     """A varying input by its dotted path in the base (e.g. strength.friction_deg, or
     joint_laws.joint.friction_deg in a scene; list entries by their index) and its distribution:
     normal (mean, std), lognormal (mean, std of the variable), uniform (min, max), triangular (min,
-    mode, max), truncated_normal (mean, std, min, max)."""
+    mode, max), truncated_normal (mean, std, min, max). `truncate` (default true): the distribution is
+    truncated to the range the key accepts (a cohesion >= 0, a friction angle in [0, 90) deg:
+    `bbmc.sweep.ranges`), renormalised; false keeps the whole distribution, and a sample drawn outside
+    the range is counted as impossible and not run."""
 
     path: Annotated[str, Field(min_length=1)]
     distribution: Literal["normal", "lognormal", "uniform", "triangular", "truncated_normal"]
@@ -103,6 +106,7 @@ class Variable(Section):
     min: float | None = None
     max: float | None = None
     mode: float | None = None
+    truncate: bool = True
 
     def parameters(self) -> dict[str, float]:
         """The distribution's parameters as given (`bbmc.sweep.design.marginal` checks them)."""

@@ -15,6 +15,10 @@ a lognormal is given by the mean and standard deviation of the variable itself; 
 the mean and standard deviation of the normal before truncation and the absolute bounds (RocPlane enters
 "relative" bounds, distances from the mean: min = mean - relative min, max = mean + relative max).
 
+An input whose key accepts only a range of values (a cohesion >= 0, a tan phi > 0: `bbmc.sweep.ranges`)
+is sampled from its distribution truncated to that range (`Truncated`: renormalised, not clipped), as
+RocPlane truncates its inputs.
+
 Correlation between two inputs (RocPlane correlates cohesion and friction angle) is imposed with a
 Gaussian copula on the normal scores (see `correlate`). Units are those of each variable; this module
 never converts them.
@@ -27,7 +31,7 @@ import math
 
 import numpy as np
 import pandas as pd
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from SALib.sample import sobol as salib_sobol
 from scipy import stats
 from scipy.stats import qmc
@@ -46,7 +50,10 @@ _PARAMETERS = {
     "truncated_normal": ("mean", "std", "min", "max"),
 }
 
-Variable = tuple[str, "stats.rv_continuous"]
+# Bounds of a truncation holding less than this of the distribution's probability are refused.
+LEAST_MASS = 1e-12
+
+Variable = tuple[str, "stats.rv_continuous | Truncated"]  # a name and anything with ppf(u)
 
 
 def _check_parameters(kind: str, params: dict[str, float]) -> dict[str, float]:
@@ -112,12 +119,69 @@ def marginal(kind: str, **params: float):
         width = p["max"] - p["min"]
         return stats.triang(c=(p["mode"] - p["min"]) / width, loc=p["min"], scale=width)
     a, b = (p["min"] - p["mean"]) / p["std"], (p["max"] - p["mean"]) / p["std"]
-    if stats.norm.cdf(b) - stats.norm.cdf(a) < 1e-12:
+    if stats.norm.cdf(b) - stats.norm.cdf(a) < LEAST_MASS:
         raise ValueError(
             f"truncated_normal: parameters min, max = [{p['min']}, {p['max']}] hold almost none of the "
             f"normal N({p['mean']}, {p['std']})"
         )
     return stats.truncnorm(a=a, b=b, loc=p["mean"], scale=p["std"])
+
+
+class Truncated:
+    """A distribution restricted to [low, high] and renormalised (not clipped): its CDF there is
+
+        F_T(x) = (F(x) - F(low)) / (F(high) - F(low)),
+
+    sampled by the inverse CDF on the truncated range, x = F^-1(F(low) + u (F(high) - F(low))), so a
+    design's stratification (Latin hypercube, Sobol) carries over to x. Computed from the lower tail
+    where F_T^-1 lies below the median and from the upper one (F^-1 = isf of the survival function)
+    above it, so that a bound deep in a tail keeps the precision of u. For a normal this is scipy's
+    truncnorm. `probability_cut` = F(low) + 1 - F(high), the part of the distribution left out.
+    Raises ValueError if less than LEAST_MASS of the probability lies in [low, high].
+    """
+
+    def __init__(self, dist: stats.rv_continuous, low: float, high: float) -> None:
+        self.dist, self.low, self.high = dist, float(low), float(high)
+        self.below, self.above = float(dist.cdf(self.low)), float(dist.sf(self.high))
+        if self.below > 0.5:  # both bounds in the upper tail: the difference of survival functions
+            self.kept = float(dist.sf(self.low)) - self.above
+        elif self.above > 0.5:  # both in the lower tail
+            self.kept = float(dist.cdf(self.high)) - self.below
+        else:
+            self.kept = 1.0 - self.below - self.above
+        if not self.kept >= LEAST_MASS:
+            raise ValueError(
+                f"[{self.low:g}, {self.high:g}] holds almost none ({self.kept:.2g}) of the "
+                "distribution's probability"
+            )
+
+    @property
+    def probability_cut(self) -> float:
+        return self.below + self.above
+
+    def ppf(self, u: ArrayLike) -> NDArray[np.float64]:
+        u = np.asarray(u, dtype=float)
+        lower = self.below + u * self.kept
+        upper = self.above + (1.0 - u) * self.kept
+        return np.where(
+            lower <= 0.5, self.dist.ppf(np.minimum(lower, 0.5)), self.dist.isf(np.minimum(upper, 0.5))
+        )
+
+    def mean(self) -> float:
+        """E[X | low <= X <= high], by quadrature (scipy's expect, conditional)."""
+        return float(self.dist.expect(lb=self.low, ub=self.high, conditional=True))
+
+    def support(self) -> tuple[float, float]:
+        low, high = self.dist.support()
+        return max(float(low), self.low), min(float(high), self.high)
+
+
+def truncation(dist: stats.rv_continuous, low: float, high: float) -> Truncated | None:
+    """`dist` truncated to [low, high] if its support reaches beyond them, else None."""
+    support_low, support_high = dist.support()
+    if support_low >= low and support_high <= high:
+        return None
+    return Truncated(dist, low, high)
 
 
 def _to_open_interval(u: NDArray) -> NDArray:

@@ -1,6 +1,8 @@
-"""Figures of a probabilistic sweep: the tornado of rank correlations and the distribution of FS.
+"""Figures of a probabilistic sweep: the tornado of rank correlations, the distribution of FS, and
+P_f and mean FS against the number of samples.
 
-Drawn from the sweep's results only (FS per sample, `statistics.failure_statistics`, `statistics.spearman`).
+Drawn from the sweep's results only (FS per sample, `statistics.failure_statistics`,
+`statistics.spearman`, `statistics.convergence`).
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ import math
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter, LogFormatter
 from numpy.typing import ArrayLike
 
 from bbmc import plots  # noqa: F401  (selects the Agg backend before any figure is drawn)
@@ -63,10 +66,24 @@ def _beta(value: float) -> str:
     return f"{value:+.2f}" if math.isfinite(value) else ("+inf" if value > 0 else "-inf")
 
 
+def probability_text(p: float) -> str:
+    """A probability to 3 significant digits, 0 and 1 exactly ("0", "3.69e-05", "0.252", "1")."""
+    return f"{p:.3g}" if 0.0 < p < 1.0 else f"{p:.0f}"
+
+
+def _beta_from_pf(stats: dict) -> str:
+    """beta = -Phi^-1(P_f), or its 95 % lower bound where P_f = 0 makes it infinite."""
+    beta = stats["reliability_index_pf"]
+    if beta == math.inf:
+        return f"$\\beta_{{P_f}}$ $\\geq$ {stats['reliability_index_pf_lower_bound']:.2f}"
+    return f"$\\beta_{{P_f}}$ = {_beta(beta)}"
+
+
 def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
     """(a) Histogram of FS over the valid samples, failing samples (FS < 1) shaded; (b) empirical CDF
-    of FS, whose height at FS = 1 is P_f. FS = 1 is marked on both; P_f with its Wilson 95 % interval
-    and both reliability indices are in the title."""
+    of FS, whose height at FS = 1 is P_f. FS = 1 is marked on both; P_f with its Clopper-Pearson 95 %
+    interval (3 significant digits: a P_f of 0 shows its upper bound), the reliability indices and,
+    if given in `stats` (fs_at_mean_inputs), the FS at the mean inputs are in the title."""
     fs = np.asarray(fs, dtype=float).ravel()
     values = np.sort(fs[np.isfinite(fs)])
     fig = Figure(figsize=(11, 4.5), dpi=dpi, layout="constrained")
@@ -78,7 +95,7 @@ def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
     ecdf = np.arange(1, values.size + 1) / values.size
     ax_c.step(values, ecdf, where="post", color="k", label="empirical CDF")
     p_f = stats["probability_of_failure"]
-    ax_c.axhline(p_f, color=NEGATIVE, linestyle=":", linewidth=1.0, label=f"$P_f$ = {p_f:.3g}")
+    ax_c.axhline(p_f, color=NEGATIVE, linestyle=":", linewidth=1.0, label=f"$P_f$ = {probability_text(p_f)}")
     ax_c.set(
         xlabel="factor of safety FS (-)",
         ylabel="cumulative probability P(FS $\\leq$ x) (-)",
@@ -89,12 +106,50 @@ def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
         ax.axvline(1.0, color="k", linestyle="--", linewidth=1.2, label="FS = 1")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="upper left" if ax is ax_h else "lower right")
+    at_mean = stats.get("fs_at_mean_inputs", math.nan)
     fig.suptitle(
-        f"$P_f$ = {p_f:.4f} (95 % CI {stats['pf_ci_low']:.4f}-{stats['pf_ci_high']:.4f}),  "
+        f"$P_f$ = {probability_text(p_f)} (95 % CI {probability_text(stats['pf_ci_low'])}"
+        f"–{probability_text(stats['pf_ci_high'])}),  {_beta_from_pf(stats)},  "
         f"$\\beta_{{normal}}$ = {_beta(stats['reliability_index_normal'])},  "
         f"$\\beta_{{lognormal}}$ = {_beta(stats['reliability_index_lognormal'])}\n"
-        f"mean FS = {stats['mean_fs']:.3f}, std = {stats['std_fs']:.3f};  "
-        f"{values.size} valid of {stats['samples']} samples ({stats['failed_runs']} failed runs)",
+        + (f"FS at the mean inputs = {at_mean:.3f};  " if math.isfinite(at_mean) else "")
+        + f"mean FS = {stats['mean_fs']:.3f}, std = {stats['std_fs']:.3f};  "
+        f"{values.size} valid of {stats['samples']} samples ({stats['failed_runs']} failed runs, "
+        f"{stats['impossible_samples']} impossible inputs)",
+        fontsize=10,
+    )
+    return fig
+
+
+def convergence_figure(table: pd.DataFrame, dpi: int) -> Figure:
+    """(a) P_f over the first n samples with its Clopper-Pearson 95 % band, (b) mean FS with its 95 %
+    band (mean -+ 1.96 sigma / sqrt(n)), both against n on a log axis (`statistics.convergence`); the
+    whole study's value dotted on each."""
+    n = table["samples"].to_numpy(dtype=float)
+    fig = Figure(figsize=(11, 4.2), dpi=dpi, layout="constrained")
+    ax_p, ax_m = fig.subplots(1, 2)
+    panels = (
+        (ax_p, "probability_of_failure", "pf_ci", "$P_f$ (-)", "(a) probability of failure", NEGATIVE),
+        (ax_m, "mean_fs", "mean_fs_ci", "mean FS (-)", "(b) mean factor of safety", POSITIVE),
+    )
+    for ax, column, band, ylabel, title, colour in panels:
+        value = table[column].to_numpy(dtype=float)
+        ax.fill_between(n, table[f"{band}_low"], table[f"{band}_high"], color=colour, alpha=0.2,
+                        linewidth=0, label="95 % interval")  # fmt: skip
+        ax.plot(n, value, color=colour, marker="o", markersize=3, label="over the first n samples")
+        ax.axhline(value[-1], color="k", linestyle=":", linewidth=1.0, label=f"all {int(n[-1])} samples")
+        ax.set_xscale("log")
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+        ax.xaxis.set_minor_formatter(LogFormatter(labelOnlyBase=False))  # labels within one decade only
+        ax.set(xlabel="number of samples n (-)", ylabel=ylabel, title=title)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8, loc="upper right")
+    ax_p.set_ylim(bottom=0.0)
+    last = table.iloc[-1]
+    fig.suptitle(
+        f"Convergence: $P_f$ = {probability_text(last['probability_of_failure'])} (95 % CI "
+        f"{probability_text(last['pf_ci_low'])}–{probability_text(last['pf_ci_high'])}), "
+        f"mean FS = {last['mean_fs']:.3f} at n = {int(n[-1])}",
         fontsize=10,
     )
     return fig

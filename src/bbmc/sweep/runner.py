@@ -11,11 +11,13 @@ finished batch on disk.
   scheduler) loses at most the batches in flight.
 * Locally: a pool of `workers` processes (default: every core). On a cluster (`scheduler` given):
   `distributed.Client(scheduler)`; a worker lost mid-task has its task rerun elsewhere by the
-  scheduler, and each batch is written once, by this process, when its result arrives.
+  scheduler, and each batch is written once, by this process, when its result arrives. Tasks are
+  named by their store and first sample, so two studies on one scheduler never share a task's result.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import time
 from collections.abc import Callable, Iterator
@@ -75,13 +77,16 @@ def _local(model: Model, pending: list[pd.DataFrame], workers: int) -> Iterator[
                 yield futures.pop(future), future.result()
 
 
-def _cluster(model: Model, pending: list[pd.DataFrame], scheduler: str) -> Iterator[tuple[int, pd.DataFrame]]:
+def _cluster(
+    model: Model, pending: list[pd.DataFrame], scheduler: str, store: Path
+) -> Iterator[tuple[int, pd.DataFrame]]:
     from distributed import Client, as_completed  # here: a local study needs no dask
 
     with Client(scheduler) as client:
         firsts = [int(b.index[0]) for b in pending]
+        study = hashlib.sha256(str(store.resolve()).encode()).hexdigest()[:16]  # tasks named per store
         futures = client.map(
-            evaluate, [model] * len(pending), pending, key=[f"bbmc-batch-{f}" for f in firsts]
+            evaluate, [model] * len(pending), pending, key=[f"bbmc-{study}-batch-{f}" for f in firsts]
         )
         first_of = dict(zip((f.key for f in futures), firsts, strict=True))
         for future in as_completed(futures):
@@ -107,7 +112,7 @@ def run_batches(
             f"({progress.done} samples done before)"
         )
         results = (
-            _cluster(model, pending, scheduler)
+            _cluster(model, pending, scheduler, store)
             if scheduler
             else _local(model, pending, workers or os.cpu_count() or 1)
         )
