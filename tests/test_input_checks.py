@@ -1,0 +1,161 @@
+"""What every command does with its input alike: a misspelt key is named in the user's own path with
+the closest valid key. Every refusal is one line naming the file, exit 2, nothing written."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+import yaml
+from click.testing import CliRunner, Result
+
+from bbmc.cli import main
+from bbmc.config import ConfigError, read_yaml, validate
+from bbmc.dem.scene import Scene
+from bbmc.stages import audit, bench, fit, joint, mc, shear, slope
+from bbmc.sweep.config import Config as Study
+from stage_runs import config_copy
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIGS = ROOT / "configs"
+SCENE = CONFIGS / "scenes" / "planar_crack.yaml"
+EXAMPLE = CONFIGS / "scenes" / "example.yaml"
+STUDY = CONFIGS / "sweeps" / "planar_block.yaml"
+STAGE_MODELS = {
+    "fit": fit.Config,
+    "mc": mc.Config,
+    "audit": audit.Config,
+    "joint": joint.Config,
+    "shear": shear.Config,
+    "slope": slope.Config,
+    "bench": bench.Config,
+}
+EVERY_CONFIG = sorted(CONFIGS.glob("**/*.yaml"))
+
+
+def _invoke(*args: object) -> Result:
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def _refused(outcome: Result, out: Path, *fragments: str) -> str:
+    assert outcome.exit_code == 2, outcome.output
+    lines = outcome.stderr.strip().splitlines()
+    assert len(lines) == 1, outcome.stderr
+    assert "Traceback" not in outcome.output
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+    assert not out.exists(), "something was written"
+    return lines[0]
+
+
+def _model_of(path: Path):
+    if path.parent.name == "scenes":
+        return Scene
+    if path.parent.name == "sweeps":
+        return Study
+    return STAGE_MODELS[path.stem]
+
+
+def _source_tree(source: Path, tmp_path: Path) -> dict:
+    """The file's content, with a stage config's data paths made absolute (so its copy still finds them)."""
+    if source.parent == CONFIGS:
+        return yaml.safe_load(config_copy(tmp_path, source.stem, lambda _: None).read_text())
+    return yaml.safe_load(source.read_text())
+
+
+def _parts(dotted: str) -> tuple:
+    return tuple(int(p) if p.isdigit() else p for p in dotted.split("."))
+
+
+def _renamed(tree: dict, path: tuple, new: str) -> dict:
+    tree = copy.deepcopy(tree)
+    *parents, key = path
+    node = tree
+    for part in parents:
+        node = node[part]
+    node[new] = node.pop(key)
+    return tree
+
+
+def _key_paths(tree: object, path: tuple = ()):
+    if isinstance(tree, dict):
+        for key, value in tree.items():
+            yield (*path, key)
+            yield from _key_paths(value, (*path, key))
+    elif isinstance(tree, list):
+        for index, value in enumerate(tree):
+            yield from _key_paths(value, (*path, index))
+
+
+# (command, file, sections added first, the key's dotted path, its misspelling)
+TYPOS = [
+    ("fos", SCENE, {}, "joint_laws.plane.friction_deg", "friction_dge"),
+    ("fos", SCENE, {}, "joint_laws.plane.law", "laws"),
+    ("fos", SCENE, {}, "materials.rock.density_kg_m3", "density_kg_m"),
+    ("fos", SCENE, {}, "water.unit_weight_kN_m3", "unit_weigth_kN_m3"),
+    (
+        "fos",
+        SCENE,
+        {"seismic": {"horizontal_coefficient": 0.1}},
+        "seismic.horizontal_coefficient",
+        "horizontal_coeficient",
+    ),
+    ("run", EXAMPLE, {}, "joint_laws.paper_joint.shear_stiffness.kj_MPa_per_mm", "kj_MPa_mm"),
+    ("run", EXAMPLE, {}, "blocks.1.brick_wall.block_width_m", "block_widht_m"),
+    ("sweep", STUDY, {}, "base.strength.tan_friction", "tan_frictoin"),
+    ("sweep", STUDY, {}, "base.plane_deg", "plane_dip_deg"),
+    ("sweep", STUDY, {}, "variables.0.distribution", "distrbution"),
+    ("mc", CONFIGS / "mc.yaml", {}, "errata.lg_e", "lg_ee"),
+    ("slope", CONFIGS / "slope.yaml", {}, "slope.joint_sets.1.spacing_m", "spacing"),
+    ("shear", CONFIGS / "shear.yaml", {}, "specimen.length_mm", "lenght_mm"),
+]
+
+
+@pytest.mark.parametrize(("command", "source", "added", "dotted", "typo"), TYPOS)
+def test_a_misspelt_key_is_named_in_the_users_path_with_the_closest_key(
+    tmp_path, command, source, added, dotted, typo
+):
+    tree = _source_tree(source, tmp_path) | added
+    path = tmp_path / source.name
+    path.write_text(yaml.safe_dump(_renamed(tree, _parts(dotted), typo)))
+    out = tmp_path / "out"
+    shown = ".".join([*dotted.split(".")[:-1], typo])
+    key = dotted.rsplit(".", 1)[-1]
+    _refused(
+        _invoke(command, "--config", path, "--results", out),
+        out,
+        str(path),
+        f"key '{shown}'",
+        f"did you mean '{key}'",
+    )
+
+
+@pytest.mark.parametrize("source", EVERY_CONFIG, ids=lambda p: str(p.relative_to(CONFIGS)))
+def test_every_key_of_every_config_misspelt_names_the_users_path_and_the_key(source):
+    """Each key of each config, scene and study in configs/ in turn given a doubled last letter: a
+    refusal names the misspelt key in the user's path (no law variant or union member inserted) and
+    suggests the key. Keys the user names (materials, joint laws, variants) are not refused."""
+    tree = read_yaml(source)
+    refused = 0
+    for path in _key_paths(tree):
+        key = str(path[-1])
+        typo = key + key[-1]
+        try:
+            validate(_renamed(tree, path, typo), _model_of(source), "f", source.parent)
+        except ConfigError as error:
+            refused += 1
+            shown = ".".join(map(str, (*path[:-1], typo)))
+            assert f"key '{shown}'" in str(error) and f"did you mean '{key}'" in str(error), str(error)
+    assert refused > 0
+
+
+def test_a_misspelt_choice_suggests_the_closest(tmp_path):
+    tree = yaml.safe_load(SCENE.read_text())
+    tree["joint_laws"]["plane"]["law"] = "constnt"
+    tree["solver"]["time_step"] = {"mode": "fixd", "step_s": 0.01}
+    with pytest.raises(ConfigError, match=r"key 'joint_laws.plane.law': .*did you mean 'constant'"):
+        validate(tree, Scene, "s.yaml")
+    tree["joint_laws"]["plane"]["law"] = "constant"
+    with pytest.raises(ConfigError, match=r"key 'solver.time_step.mode': .*did you mean 'fixed'"):
+        validate(tree, Scene, "s.yaml")
