@@ -1,11 +1,14 @@
 """What every command does with its input alike: a misspelt key is named in the user's own path with
-the closest valid key. Every refusal is one line naming the file, exit 2, nothing written."""
+the closest valid key; the file is given as an argument or with --config, the same; help shows only
+defaults that exist. Every refusal is one line naming the file, exit 2, nothing written."""
 
 from __future__ import annotations
 
 import copy
+import re
 from pathlib import Path
 
+import pandas as pd
 import pytest
 import yaml
 from click.testing import CliRunner, Result
@@ -123,7 +126,7 @@ def test_a_misspelt_key_is_named_in_the_users_path_with_the_closest_key(
     shown = ".".join([*dotted.split(".")[:-1], typo])
     key = dotted.rsplit(".", 1)[-1]
     _refused(
-        _invoke(command, "--config", path, "--results", out),
+        _invoke(command, path, "--results", out),
         out,
         str(path),
         f"key '{shown}'",
@@ -159,3 +162,70 @@ def test_a_misspelt_choice_suggests_the_closest(tmp_path):
     tree["joint_laws"]["plane"]["law"] = "constant"
     with pytest.raises(ConfigError, match=r"key 'solver.time_step.mode': .*did you mean 'fixed'"):
         validate(tree, Scene, "s.yaml")
+
+
+# ---------------------------------------------------------------- the file of a command
+
+
+def _tiny_study(tmp_path: Path) -> Path:
+    study = yaml.safe_load(STUDY.read_text())
+    study["sampling"]["samples"] = 50
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    return path
+
+
+def test_sweep_takes_its_study_as_an_argument_or_with_config_alike(tmp_path):
+    study = _tiny_study(tmp_path)
+    by_argument = _invoke("sweep", study, "--workers", 1, "--results", tmp_path / "a")
+    by_option = _invoke("sweep", "--config", study, "--workers", 1, "--results", tmp_path / "b")
+    assert by_argument.exit_code == 0 and by_option.exit_code == 0, by_argument.output + by_option.output
+    samples = [pd.read_csv(tmp_path / r / "sweep" / "planar_block" / "samples.csv") for r in ("a", "b")]
+    pd.testing.assert_frame_equal(*samples)
+    assert len(samples[0]) == 50
+
+
+def test_fos_takes_its_scene_as_an_argument_or_with_config_alike(tmp_path):
+    """The same scene through either route: the same file read (the same one-line refusal of its
+    misspelt key, before any step runs)."""
+    path = tmp_path / "scene.yaml"
+    path.write_text(SCENE.read_text().replace("friction_deg: 30", "friction_dge: 30"))
+    out = tmp_path / "out"
+    lines = {
+        _refused(_invoke("fos", *how, path, "--results", out), out, str(path)) for how in ([], ["--config"])
+    }
+    assert len(lines) == 1 and "did you mean 'friction_deg'" in lines.pop()
+
+
+@pytest.mark.parametrize("command", ["fos", "run", "sweep"])
+def test_a_command_given_no_file_says_so_in_one_line(tmp_path, command):
+    _refused(
+        _invoke(command, "--results", tmp_path / "out"), tmp_path / "out", f"bbmc {command} ", "--config"
+    )
+
+
+def test_a_file_given_twice_over_is_refused(tmp_path):
+    out = tmp_path / "out"
+    _refused(_invoke("sweep", STUDY, "--config", EXAMPLE, "--results", out), out, "given twice", "once")
+
+
+def test_a_missing_default_says_where_it_was_looked_for(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    _refused(
+        _invoke("fit", "--results", tmp_path / "out"), tmp_path / "out", "configs/fit.yaml", "the default"
+    )
+
+
+@pytest.mark.parametrize("command", sorted(main.commands))
+def test_help_shows_only_defaults_that_exist(command):
+    """Every default a command's help shows that names a file is a file of the repository (run from
+    its root, as the help's examples are); fos, run and sweep have none."""
+    text = " ".join(_invoke(command, "--help").output.split())
+    defaults = re.findall(r"\[default: ([^\]]+)\]", text)
+    files = [d for d in defaults if d.endswith(".yaml")]
+    assert all((ROOT / f).is_file() for f in files), files
+    assert bool(files) == (command not in ("fos", "run", "sweep")), defaults
+    assert (
+        f"[{'SCENE' if command in ('fos', 'run') else 'STUDY' if command == 'sweep' else 'CONFIG'}.yaml]"
+        in text
+    )
