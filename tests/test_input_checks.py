@@ -1,11 +1,13 @@
 """What every command does with its input alike: a misspelt key is named in the user's own path with
-the closest valid key; the file is given as an argument or with --config, the same; help shows only
-defaults that exist. Every refusal is one line naming the file, exit 2, nothing written."""
+the closest valid key; a value outside its plausible range for rock is a one-line warning (an error
+with --strict); the file is given as an argument or with --config, the same; help shows only defaults
+that exist. Every refusal is one line naming the file, exit 2, nothing written."""
 
 from __future__ import annotations
 
 import copy
 import re
+import warnings
 from pathlib import Path
 
 import pandas as pd
@@ -13,9 +15,11 @@ import pytest
 import yaml
 from click.testing import CliRunner, Result
 
+from bbmc import api, plausibility
 from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.scene import Scene
+from bbmc.plausibility import ImplausibleValue
 from bbmc.stages import audit, bench, fit, joint, mc, shear, slope
 from bbmc.sweep.config import Config as Study
 from stage_runs import config_copy
@@ -126,11 +130,7 @@ def test_a_misspelt_key_is_named_in_the_users_path_with_the_closest_key(
     shown = ".".join([*dotted.split(".")[:-1], typo])
     key = dotted.rsplit(".", 1)[-1]
     _refused(
-        _invoke(command, path, "--results", out),
-        out,
-        str(path),
-        f"key '{shown}'",
-        f"did you mean '{key}'",
+        _invoke(command, path, "--results", out), out, str(path), f"key '{shown}'", f"did you mean '{key}'"
     )
 
 
@@ -162,6 +162,142 @@ def test_a_misspelt_choice_suggests_the_closest(tmp_path):
     tree["joint_laws"]["plane"]["law"] = "constant"
     with pytest.raises(ConfigError, match=r"key 'solver.time_step.mode': .*did you mean 'fixed'"):
         validate(tree, Scene, "s.yaml")
+
+
+# ---------------------------------------------------------------- plausible ranges
+
+
+def _with(source: Path, tmp_path: Path, dotted: str, value: object) -> Path:
+    tree = _source_tree(source, tmp_path)
+    *parents, key = _parts(dotted)
+    node = tree
+    for part in parents:
+        node = node[part]
+    node[key] = value
+    path = tmp_path / source.name
+    path.write_text(yaml.safe_dump(tree))
+    return path
+
+
+def test_a_friction_coefficient_typed_as_degrees_is_warned_about_naming_the_slip(tmp_path):
+    """friction_deg 0.6 in a study: one warning line naming the file, the key, the range and the slip
+    (tan phi 0.6 is 31 deg); the study still runs."""
+    study = yaml.safe_load(STUDY.read_text())
+    study["base"]["strength"] = {"law": "mohr_coulomb", "friction_deg": 0.6}
+    study["variables"] = [{"path": "height_m", "distribution": "uniform", "min": 19.0, "max": 21.0}]
+    study["sampling"]["samples"] = 20
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    outcome = _invoke("sweep", path, "--workers", 1, "--results", tmp_path / "out")
+    assert outcome.exit_code == 0, outcome.output
+    warnings = [line for line in outcome.stderr.splitlines() if "warning" in line]
+    assert warnings == [
+        f"bbmc sweep: warning: {path}: key 'base.strength.friction_deg' = 0.6 is outside 5 to 70 deg "
+        "for the friction angle of a rock joint: a friction coefficient (tan phi) typed as degrees? "
+        "(31 deg if so)"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("command", "source", "dotted", "value", "slip"),
+    [
+        ("fos", SCENE, "joint_laws.plane.friction_deg", 0.6, "tan phi"),
+        ("run", SCENE, "materials.rock.density_kg_m3", 25.5, "kN/m^3 typed as kg/m^3"),
+        ("fos", SCENE, "water.unit_weight_kN_m3", 1000, "kg/m^3 typed as kN/m^3"),
+        ("fos", SCENE, "joint_laws.plane.cohesion_MPa", 48, "kPa typed as MPa"),
+        ("sweep", STUDY, "variables.0.mean", 38.7, "an angle in degrees typed as tan phi"),
+        ("mc", CONFIGS / "mc.yaml", "joint.jcs_MPa", 3310, "kPa typed as MPa"),
+        ("joint", CONFIGS / "joint.yaml", "lab_length_m", 100, "mm typed as m"),
+    ],
+)
+def test_strict_refuses_an_implausible_value(tmp_path, command, source, dotted, value, slip):
+    path = _with(source, tmp_path, dotted, value)
+    out = tmp_path / "out"
+    _refused(_invoke(command, path, "--strict", "--results", out), out, str(path), dotted, slip, "--strict")
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "slip"),
+    [
+        ("joint_laws.j.friction_deg", 0.6, "a friction coefficient (tan phi) typed as degrees"),
+        ("strength.tan_friction", 35, "an angle in degrees typed as tan phi"),
+        ("materials.rock.density_kg_m3", 26, "a unit weight in kN/m^3 typed as kg/m^3"),
+        ("materials.rock.density_kg_m3", 2.65, "g/cm^3 (t/m^3) typed as kg/m^3"),
+        ("base.unit_weight_kN_m3", 2650, "a density in kg/m^3 typed as kN/m^3"),
+        ("base.unit_weight_kN_m3", 26000, "N/m^3 typed as kN/m^3"),
+        ("water.unit_weight_kN_m3", 1000, "a density in kg/m^3 typed as kN/m^3"),
+        ("joint_laws.j.kn_MPa_per_mm", 20000, "MPa/m (or kPa/mm) typed as MPa/mm"),
+        ("joint_laws.j.cohesion_MPa", 48, "kPa typed as MPa"),
+        ("base.strength.cohesion_kPa", 48000, "Pa typed as kPa"),
+        ("joint_laws.j.strength.jcs_MPa", 50000, "kPa typed as MPa"),
+        ("seismic.horizontal_coefficient", 0.98, "an acceleration in m/s^2 typed as a fraction of g"),
+        ("base.face_deg", 1.05, "radians typed as degrees"),
+        ("field_length_m", 5000, "mm typed as m"),
+        ("joint_laws.j.friction_deg", 80, None),
+    ],
+)
+def test_each_slip_is_named_where_it_explains_the_value(key, value, slip):
+    """The slip named is one whose conversion brings the value into range; none is guessed otherwise."""
+    problem = plausibility.verdict(key, value)
+    assert problem is not None and problem.startswith("is outside")
+    if slip is None:
+        assert "?" not in problem
+    else:
+        assert f": {slip}?" in problem
+
+
+def test_a_variable_is_checked_at_its_path_and_its_spread_is_not():
+    tree = {"variables": [{"path": "strength.friction_deg", "distribution": "normal", "mean": 0.6, "std": 2}]}
+    assert plausibility.implausible_values(tree, "s.yaml") == [
+        "s.yaml: key 'variables.0.mean' (strength.friction_deg) = 0.6 is outside 5 to 70 deg for the "
+        "friction angle of a rock joint: a friction coefficient (tan phi) typed as degrees? (31 deg if so)"
+    ]
+
+
+def test_the_files_a_config_names_are_checked_too(tmp_path):
+    """A study's scene and the audit's mc config, each with an implausible value: --strict refuses it
+    naming that file, before any work."""
+    scene = _with(SCENE, tmp_path, "joint_laws.plane.friction_deg", 0.6)
+    study = {
+        "name": "s",
+        "base": {"kind": "scene_fos", "scene": scene.name},
+        "variables": [
+            {"path": "joint_laws.plane.cohesion_MPa", "distribution": "uniform", "min": 0, "max": 1}
+        ],
+        "sampling": {"method": "monte_carlo", "samples": 2},
+    }
+    (tmp_path / "study.yaml").write_text(yaml.safe_dump(study))
+    out = tmp_path / "out"
+    _refused(
+        _invoke("sweep", tmp_path / "study.yaml", "--strict", "--results", out),
+        out,
+        f"{scene}: key 'joint_laws.plane.friction_deg' = 0.6",
+    )
+    mc_config = _with(CONFIGS / "mc.yaml", tmp_path, "joint.jcs_MPa", 3310)
+    audit_config = config_copy(tmp_path, "audit", lambda data: data.update(mc_config=str(mc_config)))
+    _refused(
+        _invoke("audit", audit_config, "--strict", "--results", out),
+        out,
+        f"{mc_config}: key 'joint.jcs_MPa' = 3310",
+    )
+
+
+def test_the_python_api_warns_about_an_implausible_value():
+    scene = yaml.safe_load(SCENE.read_text())
+    scene["joint_laws"]["plane"]["friction_deg"] = 0.6
+    with pytest.warns(ImplausibleValue, match=r"<scene dict>: key 'joint_laws.plane.friction_deg' = 0.6"):
+        api.load_scene(scene)
+
+
+@pytest.mark.parametrize("source", EVERY_CONFIG, ids=lambda p: str(p.relative_to(CONFIGS)))
+def test_the_shipped_configs_raise_no_warning(source):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ImplausibleValue)
+        validate(read_yaml(source), _model_of(source), str(source), source.parent)
+
+
+def test_the_docs_table_is_the_modules():
+    assert plausibility.markdown_table() in (ROOT / "docs" / "plausible-ranges.md").read_text()
 
 
 # ---------------------------------------------------------------- the file of a command

@@ -1,7 +1,8 @@
 """The `bbmc` command line: each command loads one config, runs its stage, writes results atomically.
 
 Every command takes its file as an argument or through --config (the same). Any bad input ends with
-one line on stderr naming the file and the key (or line), exit status 2, and nothing written.
+one line on stderr naming the file and the key (or line), exit status 2, and nothing written. A value
+outside its plausible range (`bbmc.plausibility`) is a one-line warning, or with --strict an error.
 """
 
 from __future__ import annotations
@@ -9,6 +10,7 @@ from __future__ import annotations
 import functools
 import sys
 import time
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -20,6 +22,7 @@ from bbmc import __version__
 from bbmc.config import ConfigError, load_config
 from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
+from bbmc.plausibility import ImplausibleValue
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
@@ -33,12 +36,29 @@ from bbmc.stages import sweep as sweep_stage
 
 
 @contextmanager
-def _reported(name: str) -> Iterator[None]:
+def _reported(name: str, strict: bool = False) -> Iterator[None]:
     """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
     config, an input file, an unusable time step), 3 for a run that went unstable, 1 for a failed
-    write."""
+    write. An implausible value of a config loaded meanwhile is one warning line (each once), or with
+    `strict` bad input."""
+    shown: set[str] = set()
+    others = warnings.showwarning
+
+    def show(message: Warning | str, category: type[Warning], *where: object, **more: object) -> None:
+        if not issubclass(category, ImplausibleValue):
+            others(message, category, *where, **more)
+        elif str(message) not in shown:
+            shown.add(str(message))
+            click.echo(f"bbmc {name}: warning: {message}", err=True)
+
     try:
-        yield
+        with warnings.catch_warnings():
+            warnings.simplefilter("error" if strict else "always", ImplausibleValue)
+            warnings.showwarning = show
+            yield
+    except ImplausibleValue as error:
+        click.echo(f"bbmc {name}: error: {error} [--strict]", err=True)
+        sys.exit(2)
     except ConfigError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
         sys.exit(2)
@@ -86,11 +106,11 @@ def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
 
 
 def _run_stage(
-    stage: ModuleType, config_path: Path, results: str, progress_after_s: float | None = None
+    stage: ModuleType, config_path: Path, results: str, strict: bool, progress_after_s: float | None = None
 ) -> None:
     """Load the stage's config, run it, write its results. `progress_after_s`: the stage reports its
     steps, shown on stderr once the run has lasted that long (None: a stage without progress)."""
-    with _reported(stage.NAME):
+    with _reported(stage.NAME, strict):
         settings = load_config(config_path, stage.Config)
         if progress_after_s is None:
             result = stage.run(settings)
@@ -129,8 +149,8 @@ class _Progress:
 
 
 def _file_options(name: str, noun: str, default: str | None = None):
-    """The options every command shares: its file (an argument, or --config: the same) and
-    --results. The command is called with the file as `config_path`."""
+    """The options every command shares: its file (an argument, or --config: the same), --results,
+    --strict. The command is called with the file as `config_path`."""
 
     def decorate(function):
         @functools.wraps(function)
@@ -153,6 +173,12 @@ def _file_options(name: str, noun: str, default: str | None = None):
                 type=click.Path(file_okay=False),
                 help=f"Folder under which the command writes <results>/{name}/.",
             ),
+            click.option(
+                "--strict",
+                is_flag=True,
+                help="Refuse values outside their plausible range (docs/plausible-ranges.md) instead of "
+                "warning about them.",
+            ),
         ]
         for option in reversed(options):
             command = option(command)
@@ -167,7 +193,8 @@ def main() -> None:
     """Barton-Bandis joints in a Mohr-Coulomb slip model, reproduced against the paper.
 
     \b
-    Every command takes its file as an argument or with --config.
+    Every command takes its file as an argument or with --config; values outside their plausible
+    range for rock are warned about (--strict: refused).
 
     \b
     Example (the whole pipeline is `make reproduce`):
@@ -219,8 +246,8 @@ def _register(stage: ModuleType, help_text: str) -> None:
 
     @main.command(name=stage.NAME, help=help_text)
     @_file_options(stage.NAME, "config", f"configs/{stage.NAME}.yaml")
-    def command(config_path: Path, results: str) -> None:
-        _run_stage(stage, config_path, results)
+    def command(config_path: Path, results: str, strict: bool) -> None:
+        _run_stage(stage, config_path, results, strict)
 
 
 for _stage, _help in STAGE_HELP.items():
@@ -230,7 +257,7 @@ for _stage, _help in STAGE_HELP.items():
 @main.command(name="run")
 @_file_options("run", "scene")
 @click.option("--vtk", is_flag=True, help="Also write vtk/: every record for ParaView (VTU + PVD).")
-def run_command(config_path: Path, results: str, vtk: bool) -> None:
+def run_command(config_path: Path, results: str, strict: bool, vtk: bool) -> None:
     """Run a block scene (docs/scene-format.md) on the DEM engine.
 
     \b
@@ -242,7 +269,7 @@ def run_command(config_path: Path, results: str, vtk: bool) -> None:
     A run that goes unstable stops with one line naming the step and the likely cause (exit 3)
     and writes nothing.
     """
-    with _reported(run_stage.NAME):
+    with _reported(run_stage.NAME, strict):
         scene = load_config(config_path, run_stage.Config)
         progress = _Progress(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
@@ -259,7 +286,7 @@ def run_command(config_path: Path, results: str, vtk: bool) -> None:
 
 @main.command(name="fos")
 @_file_options("fos", "scene")
-def fos_command(config_path: Path, results: str) -> None:
+def fos_command(config_path: Path, results: str, strict: bool) -> None:
     """The factor of safety of a block scene by shear-strength reduction (its `fos:` section).
 
     \b
@@ -269,7 +296,7 @@ def fos_command(config_path: Path, results: str) -> None:
     wall time), summary.csv (factor_of_safety, trials, time), mechanism.png, bracketing.png,
     provenance.json. Each trial is reported on stderr once the search has lasted 2 s.
     """
-    with _reported(fos_stage.NAME):
+    with _reported(fos_stage.NAME, strict):
         scene = load_config(config_path, fos_stage.Config)
         started = time.perf_counter()
 
@@ -301,7 +328,9 @@ def fos_command(config_path: Path, results: str) -> None:
 @click.option(
     "--workers", type=click.IntRange(min=1), default=None, help="Local processes [default: every core]."
 )
-def sweep_command(config_path: Path, results: str, scheduler: str | None, workers: int | None) -> None:
+def sweep_command(
+    config_path: Path, results: str, strict: bool, scheduler: str | None, workers: int | None
+) -> None:
     """A probabilistic analysis or parameter study: sample the inputs, run every sample, report P_f.
 
     \b
@@ -313,7 +342,7 @@ def sweep_command(config_path: Path, results: str, scheduler: str | None, worker
     provenance.json. Finished batches are kept in results/sweep/<name>.progress/: the same command
     run again after an interruption runs only the missing samples. Progress and the time left on stderr.
     """
-    with _reported(sweep_stage.NAME):
+    with _reported(sweep_stage.NAME, strict):
         settings = load_config(config_path, sweep_stage.Config)
         root = Path(results) / sweep_stage.NAME
 
@@ -329,7 +358,7 @@ def sweep_command(config_path: Path, results: str, scheduler: str | None, worker
 
 @main.command(name="bench")
 @_file_options("bench", "config", "configs/bench.yaml")
-def bench_command(config_path: Path, results: str) -> None:
+def bench_command(config_path: Path, results: str, strict: bool) -> None:
     """Measure what speed costs in accuracy, the work the engine leaves out, its growth, the laws' speed.
 
     \b
@@ -346,12 +375,12 @@ def bench_command(config_path: Path, results: str) -> None:
     laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios.
     """
-    _run_stage(bench_stage, config_path, results, progress_after_s=0.0)
+    _run_stage(bench_stage, config_path, results, strict, progress_after_s=0.0)
 
 
 @main.command(name="slope")
 @_file_options("slope", "config", "configs/slope.yaml")
-def slope_command(config_path: Path, results: str) -> None:
+def slope_command(config_path: Path, results: str, strict: bool) -> None:
     """The paper's jointed limestone slope (section 5, Figs 7-10): constant M-C against the B-B update.
 
     \b
@@ -365,7 +394,7 @@ def slope_command(config_path: Path, results: str) -> None:
     dip_sensitivity.png, fos_constant.png, fos_barton_bandis.png (mechanisms), animation.gif,
     provenance.json
     """
-    _run_stage(slope_stage, config_path, results, progress_after_s=2.0)
+    _run_stage(slope_stage, config_path, results, strict, progress_after_s=2.0)
 
 
 @main.command(name="shear")
@@ -373,7 +402,7 @@ def slope_command(config_path: Path, results: str) -> None:
 @click.option(
     "--quick", is_flag=True, help="A first look: the config's `quick` settings, into <results>/shear-quick/."
 )
-def shear_command(config_path: Path, results: str, quick: bool) -> None:
+def shear_command(config_path: Path, results: str, strict: bool, quick: bool) -> None:
     """The paper's shear tests (Table 3, Figs 4 and 6) on the block engine, and its calibration of eq 16.
 
     \b
@@ -386,7 +415,7 @@ def shear_command(config_path: Path, results: str, quick: bool) -> None:
     each runs with bbmc run), provenance.json
     """
     name = "shear-quick" if quick else shear_stage.NAME
-    with _reported(name):
+    with _reported(name, strict):
         settings = load_config(config_path, shear_stage.Config)
         if quick:
             settings = shear_stage.quick_config(settings)

@@ -3,7 +3,8 @@
 A config is validated whole before a stage does any work: unknown keys (with the closest valid key
 suggested), missing keys, wrong types (strict: "3.3" is not a number) and out-of-range values all
 stop the run with `<file>: key '<dotted.key>': <what is wrong>`, the key in the user's own path. Paths
-in a config are relative to the config file's folder and must exist.
+in a config are relative to the config file's folder and must exist. A valid config's values outside
+their plausible range for rock are then warned about (`bbmc.plausibility`).
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin
 
 import yaml
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, ValidationInfo
+
+from bbmc import plausibility
 
 
 class ConfigError(Exception):
@@ -216,11 +219,14 @@ def load_config(path: str | Path, model: type[ModelT]) -> ModelT:
 
 def validate(raw: object, model: type[ModelT], source: str, base_dir: Path = Path(".")) -> ModelT:
     """Validate a parsed config (a mapping) against `model`; `source` names it in the one-line
-    `ConfigError`; relative paths in it are taken from `base_dir`."""
+    `ConfigError`; relative paths in it are taken from `base_dir`. A valid config's values outside
+    their plausible range for rock are warned about (`bbmc.plausibility.ImplausibleValue`)."""
     if not isinstance(raw, dict):
         raise ConfigError(f"{source}: top level must be a mapping of keys, got {type(raw).__name__}")
     try:
-        return model.model_validate(raw, context={"base_dir": base_dir})
+        settings = model.model_validate(raw, context={"base_dir": base_dir})
     except ValidationError as exc:
         errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
         raise ConfigError(f"{source}: {_describe(model, errors[0])}") from None
+    plausibility.warn(raw, source)
+    return settings
