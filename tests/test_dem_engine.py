@@ -199,7 +199,7 @@ def test_interpenetration_beyond_the_limit_is_reported(tmp_path):
         ({"blocks.1.rectangle_m.width_m": -1.0}, "blocks.1.rectangle_m.width_m"),
         ({"solver.damping": 1.5}, "solver.damping"),
         ({"solver.law_update_stress_change": 0.0}, "solver.law_update_stress_change"),
-        ({"joint_laws.joint.friction_deg": 95.0}, "joint_laws.joint.constant.friction_deg"),
+        ({"joint_laws.joint.friction_deg": 95.0}, "joint_laws.joint.friction_deg"),
     ],
 )
 def test_bad_scene_gives_one_line_naming_the_key(tmp_path, change, key):

@@ -8,7 +8,8 @@
     api.factor_of_safety(api.load_scene("configs/scenes/planar_crack.yaml")).factor_of_safety
 
 The scene is the format of docs/scene-format.md, validated whole (`ConfigError`, one line, on any
-fault); a run that goes wrong raises `SimulationError`. Nothing is written to disk.
+fault); a value outside its plausible range for rock (docs/plausible-ranges.md) is a `UserWarning`,
+one per value; a run that goes wrong raises `SimulationError`. Nothing is written to disk.
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ __all__ = ["ConfigError", "Scene", "SimulationError", "factor_of_safety", "load_
 
 
 def load_scene(source: str | Path | Mapping) -> Scene:
-    """A validated scene from a YAML file or from a dict in the same form."""
+    """A validated scene from a YAML file or from a dict in the same form; its implausible values are
+    warned about (`bbmc.plausibility.ImplausibleValue`, a `UserWarning`)."""
     if isinstance(source, Mapping):
         return validate(dict(source), Scene, "<scene dict>")
     return load_config(source, Scene)

@@ -1,13 +1,16 @@
 """The `bbmc` command line: each command loads one config, runs its stage, writes results atomically.
 
-Any bad input ends with one line on stderr naming the file and the key (or line), exit status 2, and
-nothing written.
+Every command takes its file as an argument or through --config (the same). Any bad input ends with
+one line on stderr naming the file and the key (or line), exit status 2, and nothing written. A value
+outside its plausible range (`bbmc.plausibility`) is a one-line warning, or with --strict an error.
 """
 
 from __future__ import annotations
 
+import functools
 import sys
 import time
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -19,6 +22,7 @@ from bbmc import __version__
 from bbmc.config import ConfigError, load_config
 from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
+from bbmc.plausibility import ImplausibleValue
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
@@ -32,12 +36,29 @@ from bbmc.stages import sweep as sweep_stage
 
 
 @contextmanager
-def _reported(name: str) -> Iterator[None]:
+def _reported(name: str, strict: bool = False) -> Iterator[None]:
     """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
     config, an input file, an unusable time step), 3 for a run that went unstable, 4 for a study in
-    which no sample gave a result (its first errors, a few lines), 1 for a failed write."""
+    which no sample gave a result (its first errors, a few lines), 1 for a failed write. An implausible
+    value of a config loaded meanwhile is one warning line (each once), or with `strict` bad input."""
+    shown: set[str] = set()
+    others = warnings.showwarning
+
+    def show(message: Warning | str, category: type[Warning], *where: object, **more: object) -> None:
+        if not issubclass(category, ImplausibleValue):
+            others(message, category, *where, **more)
+        elif str(message) not in shown:
+            shown.add(str(message))
+            click.echo(f"bbmc {name}: warning: {message}", err=True)
+
     try:
-        yield
+        with warnings.catch_warnings():
+            warnings.simplefilter("error" if strict else "always", ImplausibleValue)
+            warnings.showwarning = show
+            yield
+    except ImplausibleValue as error:
+        click.echo(f"bbmc {name}: error: {error} [--strict]", err=True)
+        sys.exit(2)
     except ConfigError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
         sys.exit(2)
@@ -63,6 +84,24 @@ def _scene_at_fault(config_path: Path) -> Iterator[None]:
         raise
 
 
+def _config_path(name: str, noun: str, argument: str | None, option: str | None, default: str | None) -> Path:
+    """The command's file, given as its argument or with --config (or its default); a `ConfigError`
+    if given twice over, or not at all where there is no default."""
+    what = f"{noun.upper()}.yaml"
+    if argument is not None and option is not None and argument != option:
+        raise ConfigError(
+            f"the {noun} is given twice ({argument} and --config {option}): give the {noun} once"
+        )
+    given = argument or option
+    if given is None and default is None:
+        raise ConfigError(f"give the {noun}: bbmc {name} {what} (or bbmc {name} --config {what})")
+    if given is None and not Path(default).is_file():
+        raise ConfigError(
+            f"{default}: not found from this folder (the default {noun}): give the {noun}: bbmc {name} {what}"
+        )
+    return Path(given or default)
+
+
 def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
     """One line per file written into `out_dir` itself, and one per folder in it (a ParaView series of
     hundreds of files is one line: the folder and its file count)."""
@@ -79,12 +118,11 @@ def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
 
 
 def _run_stage(
-    stage: ModuleType, config: str | None, results: str, progress_after_s: float | None = None
+    stage: ModuleType, config_path: Path, results: str, strict: bool, progress_after_s: float | None = None
 ) -> None:
     """Load the stage's config, run it, write its results. `progress_after_s`: the stage reports its
     steps, shown on stderr once the run has lasted that long (None: a stage without progress)."""
-    config_path = Path(config) if config else Path("configs") / f"{stage.NAME}.yaml"
-    with _reported(stage.NAME):
+    with _reported(stage.NAME, strict):
         settings = load_config(config_path, stage.Config)
         if progress_after_s is None:
             result = stage.run(settings)
@@ -122,20 +160,43 @@ class _Progress:
             self.bar.__exit__(None, None, None)
 
 
-def _stage_options(function):
-    function = click.option(
-        "--results",
-        default="results",
-        show_default=True,
-        type=click.Path(file_okay=False),
-        help="Folder under which the stage writes <results>/<stage>/.",
-    )(function)
-    return click.option(
-        "--config",
-        "config",
-        default=None,
-        help="The stage's YAML config [default: configs/<stage>.yaml].",
-    )(function)
+def _file_options(name: str, noun: str, default: str | None = None):
+    """The options every command shares: its file (an argument, or --config: the same), --results,
+    --strict. The command is called with the file as `config_path`."""
+
+    def decorate(function):
+        @functools.wraps(function)
+        def command(config_argument: str | None, config_option: str | None, **kwargs) -> None:
+            with _reported(name):
+                config_path = _config_path(name, noun, config_argument, config_option, default)
+            function(config_path=config_path, **kwargs)
+
+        shown = f" [default: {default}]" if default else ""
+        what = f"{noun.upper()}.yaml"
+        options = [
+            click.argument("config_argument", metavar=f"[{what}]", required=False),
+            click.option(
+                "--config", "config_option", metavar=what, help=f"The same as the {what} argument.{shown}"
+            ),
+            click.option(
+                "--results",
+                default="results",
+                show_default=True,
+                type=click.Path(file_okay=False),
+                help=f"Folder under which the command writes <results>/{name}/.",
+            ),
+            click.option(
+                "--strict",
+                is_flag=True,
+                help="Refuse values outside their plausible range (docs/plausible-ranges.md) instead of "
+                "warning about them.",
+            ),
+        ]
+        for option in reversed(options):
+            command = option(command)
+        return command
+
+    return decorate
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -144,11 +205,15 @@ def main() -> None:
     """Barton-Bandis joints in a Mohr-Coulomb slip model, reproduced against the paper.
 
     \b
+    Every command takes its file as an argument or with --config; values outside their plausible
+    range for rock are warned about (--strict: refused).
+
+    \b
     Example (the whole pipeline is `make reproduce`):
-      bbmc fit --config configs/fit.yaml
-      bbmc mc  --config configs/mc.yaml
-      bbmc shear --config configs/shear.yaml
-      bbmc run --config configs/scenes/incline.yaml
+      bbmc fit configs/fit.yaml
+      bbmc mc  configs/mc.yaml
+      bbmc shear configs/shear.yaml
+      bbmc run configs/scenes/incline.yaml
     """
 
 
@@ -157,14 +222,14 @@ STAGE_HELP = {
 
     \b
     Example:
-      bbmc fit --config configs/fit.yaml
+      bbmc fit configs/fit.yaml
     writes results/fit/table1_fits.csv, fig1_curves.csv, fig1.png, fig2.png, provenance.json
     """,
     mc_stage: """Equivalent Mohr-Coulomb phi, c (eqs 9-15) and the stiffness laws (eqs 2-8, 16-18).
 
     \b
     Example:
-      bbmc mc --config configs/mc.yaml
+      bbmc mc configs/mc.yaml
     writes results/mc/mc_grid.csv, table3_mc.csv, tangent_lines.csv, stiffness_curves.csv,
     envelope.png, phi_c.png, stiffness_laws.png, provenance.json
     """,
@@ -173,7 +238,7 @@ STAGE_HELP = {
 
     \b
     Example:
-      bbmc joint --config configs/joint.yaml
+      bbmc joint configs/joint.yaml
     writes results/joint/scale.csv, envelopes.csv, shear_curves.csv, closure.csv, envelopes.png,
     shear_curves.png, mobilization.png, closure.png, provenance.json
     """,
@@ -181,7 +246,7 @@ STAGE_HELP = {
 
     \b
     Example:
-      bbmc audit --config configs/audit.yaml
+      bbmc audit configs/audit.yaml
     writes results/audit/audit.csv (one row per number: paper, ours, difference, verdict,
     reasoning), summary.csv, provenance.json
     """,
@@ -192,9 +257,9 @@ def _register(stage: ModuleType, help_text: str) -> None:
     """Add `bbmc <stage.NAME>`: load its config, run it, write its results."""
 
     @main.command(name=stage.NAME, help=help_text)
-    @_stage_options
-    def command(config: str | None, results: str) -> None:
-        _run_stage(stage, config, results)
+    @_file_options(stage.NAME, "config", f"configs/{stage.NAME}.yaml")
+    def command(config_path: Path, results: str, strict: bool) -> None:
+        _run_stage(stage, config_path, results, strict)
 
 
 for _stage, _help in STAGE_HELP.items():
@@ -202,10 +267,9 @@ for _stage, _help in STAGE_HELP.items():
 
 
 @main.command(name="run")
-@_stage_options
-@click.argument("scene", required=False)
+@_file_options("run", "scene")
 @click.option("--vtk", is_flag=True, help="Also write vtk/: every record for ParaView (VTU + PVD).")
-def run_command(config: str | None, results: str, scene: str | None, vtk: bool) -> None:
+def run_command(config_path: Path, results: str, strict: bool, vtk: bool) -> None:
     """Run a block scene (docs/scene-format.md) on the DEM engine.
 
     \b
@@ -217,13 +281,7 @@ def run_command(config: str | None, results: str, scene: str | None, vtk: bool) 
     A run that goes unstable stops with one line naming the step and the likely cause (exit 3)
     and writes nothing.
     """
-    if config is not None and scene is not None and config != scene:
-        raise click.UsageError("give the scene once: bbmc run SCENE.yaml, or bbmc run --config SCENE.yaml")
-    config = config or scene
-    if config is None:
-        raise click.UsageError("give the scene: bbmc run SCENE.yaml (or --config SCENE.yaml)")
-    config_path = Path(config)
-    with _reported(run_stage.NAME):
+    with _reported(run_stage.NAME, strict):
         scene = load_config(config_path, run_stage.Config)
         progress = _Progress(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
@@ -239,21 +297,18 @@ def run_command(config: str | None, results: str, scene: str | None, vtk: bool) 
 
 
 @main.command(name="fos")
-@_stage_options
-def fos_command(config: str | None, results: str) -> None:
+@_file_options("fos", "scene")
+def fos_command(config_path: Path, results: str, strict: bool) -> None:
     """The factor of safety of a block scene by shear-strength reduction (its `fos:` section).
 
     \b
     Example:
-      bbmc fos --config configs/scenes/planar_crack.yaml
+      bbmc fos configs/scenes/planar_crack.yaml
     writes results/fos/<scene name>/fos.csv (every trial: F, verdict, steps, largest displacement,
     wall time), summary.csv (factor_of_safety, trials, time), mechanism.png, bracketing.png,
     provenance.json. Each trial is reported on stderr once the search has lasted 2 s.
     """
-    if config is None:
-        raise click.UsageError("give the scene with --config SCENE.yaml")
-    config_path = Path(config)
-    with _reported(fos_stage.NAME):
+    with _reported(fos_stage.NAME, strict):
         scene = load_config(config_path, fos_stage.Config)
         started = time.perf_counter()
 
@@ -276,7 +331,7 @@ def fos_command(config: str | None, results: str) -> None:
 
 
 @main.command(name="sweep")
-@_stage_options
+@_file_options("sweep", "study")
 @click.option(
     "--scheduler",
     default=None,
@@ -285,13 +340,15 @@ def fos_command(config: str | None, results: str) -> None:
 @click.option(
     "--workers", type=click.IntRange(min=1), default=None, help="Local processes [default: every core]."
 )
-def sweep_command(config: str | None, results: str, scheduler: str | None, workers: int | None) -> None:
+def sweep_command(
+    config_path: Path, results: str, strict: bool, scheduler: str | None, workers: int | None
+) -> None:
     """A probabilistic analysis or parameter study: sample the inputs, run every sample, report P_f.
 
     \b
     Example:
-      bbmc sweep --config configs/sweeps/planar_block.yaml
-      bbmc sweep --config configs/sweeps/planar_block.yaml --scheduler tcp://127.0.0.1:8786
+      bbmc sweep configs/sweeps/planar_block.yaml
+      bbmc sweep configs/sweeps/planar_block.yaml --scheduler tcp://127.0.0.1:8786
     writes results/sweep/<name>/samples.csv, summary.csv (FS at the mean inputs, mean and std of FS,
     P_f with its 95 % interval, reliability indices, impossible samples, truncations),
     convergence.csv, convergence.png, sensitivity.csv, fs_distribution.png, tornado.png,
@@ -299,10 +356,7 @@ def sweep_command(config: str | None, results: str, scheduler: str | None, worke
     run again after an interruption runs only the missing samples. Progress and the time left on stderr.
     Exit status 4 (nothing written) if no sample gave a result, with the first errors.
     """
-    if config is None:
-        raise click.UsageError("give the study with --config SWEEP.yaml")
-    config_path = Path(config)
-    with _reported(sweep_stage.NAME):
+    with _reported(sweep_stage.NAME, strict):
         settings = load_config(config_path, sweep_stage.Config)
         root = Path(results) / sweep_stage.NAME
 
@@ -317,13 +371,13 @@ def sweep_command(config: str | None, results: str, scheduler: str | None, worke
 
 
 @main.command(name="bench")
-@_stage_options
-def bench_command(config: str | None, results: str) -> None:
+@_file_options("bench", "config", "configs/bench.yaml")
+def bench_command(config_path: Path, results: str, strict: bool) -> None:
     """Measure what speed costs in accuracy, the work the engine leaves out, its growth, the laws' speed.
 
     \b
     Example:
-      bbmc bench --config configs/bench.yaml
+      bbmc bench configs/bench.yaml
     writes results/bench/tradeoff.csv (each knob alone on the paper's scenes: wall time, error against a
     converged reference, Pareto front), tradeoff_readings.csv (what was read, per run),
     recommended.csv (each knob's fastest value within the target error), economy.csv (the gain of each
@@ -335,17 +389,17 @@ def bench_command(config: str | None, results: str) -> None:
     laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios.
     """
-    _run_stage(bench_stage, config, results, progress_after_s=0.0)
+    _run_stage(bench_stage, config_path, results, strict, progress_after_s=0.0)
 
 
 @main.command(name="slope")
-@_stage_options
-def slope_command(config: str | None, results: str) -> None:
+@_file_options("slope", "config", "configs/slope.yaml")
+def slope_command(config_path: Path, results: str, strict: bool) -> None:
     """The paper's jointed limestone slope (section 5, Figs 7-10): constant M-C against the B-B update.
 
     \b
     Example:
-      bbmc slope --config configs/slope.yaml
+      bbmc slope configs/slope.yaml
     writes results/slope/claims.csv (each claim of section 5.2, measured in both runs),
     fig7_blocks.csv, fig8_vectors.csv, fig9_joints.csv, fig10_displacements.csv, fig10_fits.csv,
     fs_vs_dip.csv, critical_dip.csv, dip_sensitivity.csv, factor_of_safety.csv (strength reduction
@@ -354,29 +408,28 @@ def slope_command(config: str | None, results: str) -> None:
     dip_sensitivity.png, fos_constant.png, fos_barton_bandis.png (mechanisms), animation.gif,
     provenance.json
     """
-    _run_stage(slope_stage, config, results, progress_after_s=2.0)
+    _run_stage(slope_stage, config_path, results, strict, progress_after_s=2.0)
 
 
 @main.command(name="shear")
-@_stage_options
+@_file_options("shear", "config", "configs/shear.yaml")
 @click.option(
     "--quick", is_flag=True, help="A first look: the config's `quick` settings, into <results>/shear-quick/."
 )
-def shear_command(config: str | None, results: str, quick: bool) -> None:
+def shear_command(config_path: Path, results: str, strict: bool, quick: bool) -> None:
     """The paper's shear tests (Table 3, Figs 4 and 6) on the block engine, and its calibration of eq 16.
 
     \b
     Example:
-      bbmc shear --config configs/shear.yaml
+      bbmc shear configs/shear.yaml
     writes results/shear/table3_shear.csv (Table 3 beside ours, cell by cell, with verdicts),
     stress_tests.csv (every load and law against the closed form), velocity_curves.csv,
     velocity_peaks.csv, test_curves.csv, calibration.csv (a, b, R^2 beside eq 16's),
     calibration_tests.csv, fig4.png, fig6.png, calibration.png, scenes/*.yaml (every scene run;
     each runs with bbmc run), provenance.json
     """
-    config_path = Path(config) if config else Path("configs") / "shear.yaml"
     name = "shear-quick" if quick else shear_stage.NAME
-    with _reported(name):
+    with _reported(name, strict):
         settings = load_config(config_path, shear_stage.Config)
         if quick:
             settings = shear_stage.quick_config(settings)

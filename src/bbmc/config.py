@@ -2,8 +2,9 @@
 
 A config is validated whole before a stage does any work: unknown keys (with the closest valid key
 suggested), missing keys, wrong types (strict: "3.3" is not a number) and out-of-range values all
-stop the run with `<file>: key '<dotted.key>': <what is wrong>`. Paths in a config are relative to the
-config file's folder and must exist.
+stop the run with `<file>: key '<dotted.key>': <what is wrong>`, the key in the user's own path. Paths
+in a config are relative to the config file's folder and must exist. A valid config's values outside
+their plausible range for rock are then warned about (`bbmc.plausibility`).
 """
 
 from __future__ import annotations
@@ -11,10 +12,13 @@ from __future__ import annotations
 import difflib
 import re
 from pathlib import Path
-from typing import Annotated, Any, TypeVar
+from types import UnionType
+from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin
 
 import yaml
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, ValidationInfo
+
+from bbmc import plausibility
 
 
 class ConfigError(Exception):
@@ -101,36 +105,105 @@ InputFile = Annotated[Path, Field(strict=False), AfterValidator(_existing_file)]
 ModelT = TypeVar("ModelT", bound=BaseModel)
 
 
-def _dotted(loc: tuple[Any, ...]) -> str:
-    return ".".join(str(part) for part in loc)
+def _unwrapped(annotation: Any) -> Any:
+    """The type under `Annotated[...]` and `X | None`; a union of several types stays a union."""
+    while get_origin(annotation) is Annotated:
+        annotation = get_args(annotation)[0]
+    if get_origin(annotation) in (Union, UnionType):
+        members = [a for a in get_args(annotation) if a is not type(None)]
+        if len(members) == 1:
+            return _unwrapped(members[0])
+    return annotation
 
 
-def _parent_model(model: type[BaseModel], loc: tuple[Any, ...]) -> type[BaseModel] | None:
-    """The model class that owns the last key of `loc`, to suggest valid keys from."""
+def _is_model(annotation: Any) -> bool:
+    return isinstance(annotation, type) and issubclass(annotation, BaseModel)
+
+
+def _tags(model: type[BaseModel]) -> set[object]:
+    """The values of the model's required `Literal` fields: the tags a discriminated union knows it by."""
+    return {
+        value
+        for field in model.model_fields.values()
+        if field.is_required() and get_origin(field.annotation) is Literal
+        for value in get_args(field.annotation)
+    }
+
+
+def _member(union: Any, label: object) -> Any:
+    """The member of a union that pydantic names `label` in an error's location (its tag, or its class
+    name); None if none can be told."""
+    for member in (_unwrapped(a) for a in get_args(union)):
+        if _is_model(member) and (label == member.__name__ or label in _tags(member)):
+            return member
+    return None
+
+
+def _child(annotation: Any, part: object) -> Any:
+    """The type of `part` (a field name, a mapping key, a list index) inside `annotation`."""
+    if _is_model(annotation):
+        field = annotation.model_fields.get(str(part))
+        return field.annotation if field is not None else None
+    origin, args = get_origin(annotation), get_args(annotation)
+    if origin is dict and len(args) == 2:
+        return args[1]
+    if origin is list and args:
+        return args[0]
+    return None
+
+
+def _user_location(model: type[BaseModel], loc: tuple[Any, ...]) -> tuple[str, type[BaseModel] | None]:
+    """The dotted key of an error's `loc` as the user wrote it (without the union members pydantic adds
+    to a location: a joint law's `constant`, a value's `float`), and the model that owns its last key
+    (to suggest valid keys from; None where the key is not a model's field)."""
+    keys: list[str] = []
     current: Any = model
-    for part in loc[:-1]:
-        if not (isinstance(current, type) and issubclass(current, BaseModel)):
-            return None
-        field = current.model_fields.get(str(part))
-        if field is None:
-            return None
-        current = field.annotation
-    return current if isinstance(current, type) and issubclass(current, BaseModel) else None
+    owner: type[BaseModel] | None = None
+    for part in loc:
+        if part == "[key]":  # pydantic's mark of a mapping's key (rather than its value) at fault
+            continue
+        current = _unwrapped(current)
+        if get_origin(current) in (Union, UnionType):
+            current = _member(current, part)
+            continue
+        owner = current if _is_model(current) else None
+        keys.append(str(part))
+        current = _child(current, part)
+    return ".".join(keys), owner
+
+
+def _closest(word: str, choices: list[str], noun: str) -> str:
+    """' (did you mean ...?)' with the closest of `choices`, else the list of them."""
+    close = difflib.get_close_matches(word, choices, n=1)
+    return f" (did you mean '{close[0]}'?)" if close else f" (valid {noun}: {', '.join(choices)})"
 
 
 def _describe(model: type[BaseModel], error: dict[str, Any]) -> str:
-    loc = tuple(error["loc"])
-    key = _dotted(loc)
-    if error["type"] == "extra_forbidden":
-        parent = _parent_model(model, loc)
-        valid = list(parent.model_fields) if parent else []
-        close = difflib.get_close_matches(str(loc[-1]), valid, n=1)
-        hint = f" (did you mean '{close[0]}'?)" if close else f" (valid keys: {', '.join(valid)})"
+    key, owner = _user_location(model, tuple(error["loc"]))
+    kind, context = error["type"], error.get("ctx") or {}
+    if kind == "extra_forbidden":
+        hint = _closest(str(error["loc"][-1]), list(owner.model_fields), "keys") if owner else ""
         return f"key '{key}': unknown key{hint}"
-    if error["type"] == "missing":
+    if kind == "missing":
         return f"key '{key}': missing"
+    if kind in ("union_tag_invalid", "union_tag_not_found"):
+        field = context["discriminator"].strip("'")
+        prefix = f"{key}." if key else ""
+        if kind == "union_tag_not_found":
+            given = [str(name) for name in error["input"]] if isinstance(error["input"], dict) else []
+            misspelt = difflib.get_close_matches(field, given, n=1)
+            if misspelt:
+                return f"key '{prefix}{misspelt[0]}': unknown key (did you mean '{field}'?)"
+            return f"key '{prefix}{field}': missing"
+        key = prefix + field
+        tags = re.findall(r"'([^']*)'", context["expected_tags"])
+        return f"key '{key}': unknown {field} '{context['tag']}'{_closest(context['tag'], tags, field + 's')}"
     message = error["msg"].removeprefix("Value error, ")
-    return f"key '{key}': {message}, got {error['input']!r}"
+    if not isinstance(error["input"], dict):  # a whole section is not repeated back
+        message += f", got {error['input']!r}"
+    if kind == "literal_error" and isinstance(error["input"], str):
+        message += _closest(error["input"], re.findall(r"'([^']*)'", context["expected"]), "values")
+    return f"key '{key}': {message}" if key else message
 
 
 def load_config(path: str | Path, model: type[ModelT]) -> ModelT:
@@ -146,11 +219,14 @@ def load_config(path: str | Path, model: type[ModelT]) -> ModelT:
 
 def validate(raw: object, model: type[ModelT], source: str, base_dir: Path = Path(".")) -> ModelT:
     """Validate a parsed config (a mapping) against `model`; `source` names it in the one-line
-    `ConfigError`; relative paths in it are taken from `base_dir`."""
+    `ConfigError`; relative paths in it are taken from `base_dir`. A valid config's values outside
+    their plausible range for rock are warned about (`bbmc.plausibility.ImplausibleValue`)."""
     if not isinstance(raw, dict):
         raise ConfigError(f"{source}: top level must be a mapping of keys, got {type(raw).__name__}")
     try:
-        return model.model_validate(raw, context={"base_dir": base_dir})
+        settings = model.model_validate(raw, context={"base_dir": base_dir})
     except ValidationError as exc:
         errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
         raise ConfigError(f"{source}: {_describe(model, errors[0])}") from None
+    plausibility.warn(raw, source)
+    return settings

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from bbmc import joint_model as jm
 from bbmc import plots, units
@@ -42,11 +42,12 @@ class Config(Section):
     tangent_stresses_MPa: list[float] = Field(min_length=1, max_length=12)
     figure_dpi: int = Field(ge=50, le=600)
 
-    @model_validator(mode="after")
-    def _positive_stresses(self) -> Config:
-        if any(s <= 0 for s in self.tangent_stresses_MPa):
-            raise ValueError("tangent_stresses_MPa must all be > 0 (a strength is asked there)")
-        return self
+    @field_validator("tangent_stresses_MPa")
+    @classmethod
+    def _positive_stresses(cls, value: list[float]) -> list[float]:
+        if any(s <= 0 for s in value):
+            raise ValueError("must all be > 0 (a strength is asked there)")
+        return value
 
 
 def _mpa_mm(values: np.ndarray) -> np.ndarray:

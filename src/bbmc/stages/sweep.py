@@ -32,6 +32,7 @@ import numpy as np
 import pandas as pd
 from pydantic import BaseModel
 
+from bbmc import plausibility
 from bbmc.config import ConfigError, load_config, read_yaml, validate
 from bbmc.dem.model import build_model
 from bbmc.dem.monitors import column_name
@@ -87,7 +88,9 @@ def _scene_tree(config: Config) -> dict:
     """The base scene: the scene file, or the paper's slope built by `bbmc.slope.safety`."""
     base = config.base
     if base.scene is not None:
-        return read_yaml(base.scene)
+        tree = read_yaml(base.scene)
+        plausibility.warn(tree, str(base.scene))
+        return tree
     slope = load_config(base.slope_config, SlopeConfig)
     return safety.reduction_scene(slope, load_table4(slope.data), base.joint_model)
 
