@@ -15,14 +15,14 @@ from bbmc import kernel_cache
 
 PACKAGE = Path(kernel_cache.__file__).resolve().parent
 
-# K_s of the hyperbolic law from a kernel (dem/kernels.py) that calls the laws of laws/stiffness.py:
+# K_s of the hyperbolic law from a kernel (dem/joint_state.py) that calls the laws of laws/stiffness.py:
 # K_si = K_j (sigma/sigma_ref)^n_j = 2e9 Pa/m at sigma = 1 MPa, K_s = K_si (1 - tau/tau_ult)^2 at tau = 0.
 SHEAR_STIFFNESS = """
 import numpy as np
-from bbmc.dem import kernels, layout as L
+from bbmc.dem import joint_state, layout as L
 p = np.zeros(L.PARAMETERS)
 p[L.P_K_J], p[L.P_N_J], p[L.P_SIGMA_REF], p[L.P_TAU_P_SLOPE], p[L.P_TAU_ULT_SLOPE] = 2e9, 0.5, 1e6, 1.0, 1.0
-print(kernels._shear_stiffness(L.SHEAR_HYPERBOLIC, 1e6, 0.0, p))
+print(joint_state._shear_stiffness(L.SHEAR_HYPERBOLIC, 1e6, 0.0, p))
 """
 
 
@@ -58,7 +58,7 @@ def test_the_key_follows_the_compiled_source_only(tmp_path):
     src = _copy(tmp_path)
     package = src / "bbmc"
     names = {path.relative_to(package).as_posix() for path in kernel_cache.compiled_sources(package)}
-    assert {"laws/stiffness.py", "laws/strength.py", "dem/kernels.py", "dem/layout.py"} <= names
+    assert {"laws/stiffness.py", "laws/strength.py", "dem/kernels.py", "dem/joint_state.py", "dem/contact_forces.py", "dem/layout.py"} <= names
     assert not {"dem/figures.py", "dem/vtk.py", "cli.py"} & names
     key = kernel_cache.source_key(package)
     figures = package / "dem" / "figures.py"
