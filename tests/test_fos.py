@@ -1,6 +1,6 @@
 """Strength reduction (`bbmc.dem.strength_reduction`, `bbmc fos`) against closed forms and limit
-equilibrium. Each tolerance is stated where it is used; the measured errors are in the README
-("Factor of safety")."""
+equilibrium. Each tolerance is stated where it is used; the measured errors are in
+docs/verification.md ("Factor of safety by strength reduction")."""
 
 from __future__ import annotations
 
@@ -133,7 +133,7 @@ def test_a_scene_whose_unreduced_run_does_not_settle_in_its_budget_is_not_called
 def test_fs_is_stable_to_the_solver_settings(name, scene):
     """Halving the time step's safety factor, or doubling the sub-contacts, moves the FS by less than
     the bisection's tolerance (0.01; measured: no change). Not so for toppling: 8 sub-contacts move the
-    Goodman-Bray FS by -0.04 (README, "Factor of safety")."""
+    Goodman-Bray FS by -0.04 (docs/verification.md)."""
     reference = _fos(scene).factor_of_safety
     halved = {
         **scene,

@@ -1,7 +1,7 @@
 """The mobilized Barton-Bandis joint law on the engine (`law: barton_bandis_mobilized`): a shear box at
 constant normal load against the law's tau-delta and dilation-delta curves, a reversal, a constant
 normal stiffness test against the integrated closed form, and closure under normal load against Bandis's
-hyperbola. Each tolerance is stated where it is used; the measured errors are in the README."""
+hyperbola. Each tolerance is stated where it is used; the measured errors are in docs/verification.md."""
 
 from __future__ import annotations
 

@@ -156,7 +156,7 @@ def test_column_on_an_incline_in_each_regime(tmp_path, dip, friction, width_over
 
 def test_the_chart_and_the_equations_at_release_differ_only_where_psi_exceeds_phi():
     """Where the incline cases' closed forms part: only for psi > phi and b/h < tan psi, in three of
-    the ten cases (listed in the README's toppling table)."""
+    the ten cases (the chart's table in docs/tutorials/toppling.md)."""
     differ = [c for c in INCLINE_CASES if hoek_bray_chart(c[2], c[0], c[1]) != onset_regime(c[2], c[0], c[1])]
     assert differ == [INCLINE_CASES[5], INCLINE_CASES[6], INCLINE_CASES[9]]
 

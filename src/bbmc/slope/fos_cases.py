@@ -130,7 +130,7 @@ def goodman_bray_case(friction_deg: float) -> Case:
 
 
 def cases() -> list[Case]:
-    """Every verification case, in the order of the README's table."""
+    """Every verification case, in the order of the table in docs/verification.md."""
     dip = math.radians(DIP_DEG)
     cohesive = {**MOHR_COULOMB, "friction_deg": 25.0, "cohesion_MPa": 0.002}
     weight = DENSITY * G * 2.0 * 0.5
