@@ -48,7 +48,8 @@ def _loads(polygons: list[np.ndarray], surface: np.ndarray, unit_weight: float =
     ).astype(np.int64)
     world = np.vstack(polygons).astype(float)
     moving = np.ones(len(polygons), dtype=bool) if moving is None else np.asarray(moving, dtype=bool)
-    add_water_loads(blocks, world, vertex_start, vertex_next, moving, surface, unit_weight)
+    dry = np.zeros(len(world), dtype=bool)
+    add_water_loads(blocks, world, vertex_start, vertex_next, moving, surface, unit_weight, dry)
     return blocks[:, [L.FX, L.FY, L.FM]]
 
 
@@ -265,7 +266,8 @@ def test_the_kernel_adds_to_the_forces_already_there():
     blocks[0, [L.X, L.Y]] = mass_properties(vertices)[1]
     blocks[0, [L.FX, L.FY, L.FM]] = 1.0, -2.0, 3.0
     start, following = np.array([0, 4], dtype=np.int64), np.array([1, 2, 3, 0], dtype=np.int64)
-    add_water_loads(blocks, vertices, start, following, np.ones(1, bool), _level(0.0), GAMMA)
+    dry = np.zeros(4, dtype=bool)
+    add_water_loads(blocks, vertices, start, following, np.ones(1, bool), _level(0.0), GAMMA, dry)
     _close(blocks[0, L.FX], 1.0, GAMMA)
     _close(blocks[0, L.FY], -2.0 + GAMMA, GAMMA)
     _close(blocks[0, L.FM], 3.0, GAMMA)

@@ -14,6 +14,7 @@ import numba
 from bbmc.dem.layout import (
     AFTER_SLIP,
     AFTER_SLIP_ZERO,
+    BREAKS_INTO,
     COH,
     JOINT_TYPE,
     KN,
@@ -60,6 +61,7 @@ from bbmc.dem.layout import (
     SHEAR_LAW,
     SHEAR_SIMPLIFIED,
     SLIPPED,
+    SLIPPED_IN_SHEAR,
     SN,
     STRENGTH_BARTON_BANDIS,
     STRENGTH_CONSTANT,
@@ -130,12 +132,15 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
     Stiffness laws are evaluated at max(sigma_n, stress floor), so an open or barely closed joint keeps
     a usable stiffness (the laws give 0 at sigma_n = 0, and a joint with K_n = 0 could never close);
     the strength is evaluated at sigma_n itself (no strength when open). A slipped sub-contact of a
-    joint type with ``after_slip = zero`` keeps c = 0.
+    joint type with ``after_slip = zero`` keeps c = 0. A broken share of intact rock follows the laws of
+    the joint it broke into.
     """
     for c in range(contacts.shape[0]):
-        j = contacts[c, JOINT_TYPE]
-        p = params[j]
+        own = contacts[c, JOINT_TYPE]
+        breaks = laws[own, BREAKS_INTO]
         for s in range(c * n_sub, (c + 1) * n_sub):
+            j = breaks if breaks >= 0 and subs[s, SLIPPED] != 0.0 else own
+            p = params[j]
             sigma = subs[s, SN]
             if (
                 changed_only
@@ -176,7 +181,8 @@ def stresses_moved(contacts, subs, n_sub, laws, params, change):
         if (
             laws[j, STRENGTH_LAW] == STRENGTH_CONSTANT
             and laws[j, NORMAL_LAW] == NORMAL_CONSTANT
-            and (laws[j, SHEAR_LAW] == SHEAR_CONSTANT)
+            and laws[j, SHEAR_LAW] == SHEAR_CONSTANT
+            and laws[j, BREAKS_INTO] < 0
         ):
             continue
         floor = params[j, P_STRESS_FLOOR]
@@ -196,7 +202,8 @@ def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
     """Parameters of new sub-contacts (contacts first_new onwards) from their joint type.
 
     Contacts of the initial assembly (`intact`) get the type's cohesion and tensile strength; contacts
-    that form during a run carry no tensile strength, and their cohesion follows ``after_slip``.
+    that form during a run carry no tensile strength, and their cohesion follows ``after_slip``; one of
+    intact rock that forms during a run is the joint it breaks into (rock that has moved apart is broken).
     """
     for c in range(first_new, contacts.shape[0]):
         j = contacts[c, JOINT_TYPE]
@@ -210,6 +217,10 @@ def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
                 subs[s, COH] = params[j, P_COH]
                 subs[s, TEN] = params[j, P_TEN]
             else:
-                subs[s, SLIPPED] = 1.0
-                if laws[j, AFTER_SLIP] != AFTER_SLIP_ZERO:
-                    subs[s, COH] = params[j, P_COH]
+                subs[s, SLIPPED] = SLIPPED_IN_SHEAR
+                joint = laws[j, BREAKS_INTO] if laws[j, BREAKS_INTO] >= 0 else j
+                subs[s, KN] = params[joint, P_KN]
+                subs[s, KS] = params[joint, P_KS]
+                subs[s, TANPHI] = math.tan(params[joint, P_PHI])
+                if laws[joint, AFTER_SLIP] != AFTER_SLIP_ZERO:
+                    subs[s, COH] = params[joint, P_COH]

@@ -57,6 +57,7 @@ def cycle(
     load_edge,
     water_surface,
     water_unit_weight,
+    dry_edges,
     damping,
     search_distance,
     time_step_mode,
@@ -65,7 +66,8 @@ def cycle(
 ):
     """Run up to n_steps cycles. Returns (cycles done, DONE | SEARCH_NEEDED | STEP_ABOVE_CRITICAL).
 
-    Water pressure (`water_surface`, `water_unit_weight`; `bbmc.dem.water`) is added to the loads.
+    Water pressure (`water_surface`, `water_unit_weight`; `bbmc.dem.water`) is added to the loads, on
+    every edge but the `dry_edges` of intact rock.
     time_step_mode: 0 automatic (safety x critical, recomputed after each law update), 1 fixed (the
     run stops with STEP_ABOVE_CRITICAL once the fixed step exceeds the critical one), 2 density
     scaling (fixed step, inertial masses rescaled after each law update). The laws are updated every
@@ -108,8 +110,10 @@ def cycle(
             load_edge,
             clock[STEP],
         )
-        add_water_loads(blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight)
-        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt)
+        add_water_loads(
+            blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight, dry_edges
+        )
+        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, dry_edges)
         moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving)
         update_vertices(blocks, vertex_start, local, world, moving)
         clock[STEP] += 1.0

@@ -38,7 +38,8 @@ US = 3  # accumulated shear displacement of B on A [m]
 KN, KS = 4, 5  # current normal and shear stiffness [Pa/m]
 COH, TANPHI, TEN = 6, 7, 8  # cohesion [Pa], tan(friction angle) [1], tensile strength [Pa]
 LENGTH = 9  # length of this sub-contact's share of the contact's overlap [m] (0: contact inactive)
-SLIPPED = 10  # 1 once the sub-contact has slipped (or failed in tension)
+SLIPPED = 10  # 0 intact; SLIPPED_IN_SHEAR once it has slipped, FAILED_IN_TENSION once its bond broke
+SLIPPED_IN_SHEAR, FAILED_IN_TENSION = 1.0, 2.0
 CX, CY = 11, 12  # position [m]
 LAW_SN, LAW_TAU = (
     13,
@@ -57,7 +58,8 @@ CORNER_ROUNDING = 0.01
 
 # --- joint types: int64 (n_types, LAW_COLUMNS) and float64 (n_types, PARAMETERS) --------------------
 STRENGTH_LAW, NORMAL_LAW, SHEAR_LAW, AFTER_SLIP = 0, 1, 2, 3
-LAW_COLUMNS = 4
+BREAKS_INTO = 4  # the joint type an intact-rock type (a bridge) becomes where it breaks; -1: none
+LAW_COLUMNS = 5
 STRENGTH_CONSTANT, STRENGTH_BARTON_BANDIS = 0, 1  # M-C c, phi given | tangent to the B-B envelope (eq 15)
 STRENGTH_MOBILIZED = 2  # secant of the B-B strength mobilized at the sub-contact's shear path (Barton 1982)
 NORMAL_CONSTANT, NORMAL_EQ8, NORMAL_BANDIS = 0, 1, 2  # K_n given | eqs 5-8 | Bandis et al. 1983's hyperbola

@@ -83,6 +83,7 @@ class Model:
     rule_groups: np.ndarray
     rule_dip: np.ndarray
     rule_law: np.ndarray
+    rule_edges: np.ndarray  # (rules, labels) bool: the edge labels each rule matches (all without `edges`)
     default_law: int
     gravity: np.ndarray
     block_loads: np.ndarray
@@ -93,6 +94,8 @@ class Model:
     monitors: list[MonitorSpec]
     water_surface: np.ndarray  # the phreatic surface's points (m, 2) [m]
     water_unit_weight: float  # [N/m^3]; 0: no water
+    edge_label: np.ndarray  # per edge (vertex index): its label's index in label_names ('' for none)
+    label_names: list[str]
     economy: Economy = field(default_factory=Economy)
 
     @property
@@ -174,6 +177,22 @@ def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
             turned.append(polygons.rotated(s, entry.rotate_deg * units.deg, about))
         shapes = turned
     return shapes, [sorted(set(h) | set(entry.fix)) for h in held]
+
+
+def _edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[str]:
+    """The labels of a block's edges in the engine's (counter-clockwise) order: a polygon's
+    `edge_labels` as written (edge k from vertex k to k + 1), reversed with a clockwise polygon."""
+    if entry.edge_labels is None:
+        return [""] * n_edges
+    if entry.polygon_m is None:
+        raise _error(path, f"{key}.edge_labels", "edge labels are given with polygon_m")
+    if len(entry.edge_labels) != n_edges:
+        raise _error(
+            path, f"{key}.edge_labels", f"give one label per edge: {n_edges}, got {len(entry.edge_labels)}"
+        )
+    if polygons.polygon_area(np.array(entry.polygon_m, dtype=float)) > 0.0:
+        return list(entry.edge_labels)
+    return [entry.edge_labels[(n_edges - 2 - i) % n_edges] for i in range(n_edges)]
 
 
 def _mobilized_law_row(law: MobilizedLaw, p: np.ndarray) -> tuple[list[int], np.ndarray]:
@@ -268,7 +287,7 @@ def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> 
 
 def build_model(scene: Scene, path: Path) -> Model:
     """Check every reference of the scene and assemble the engine's arrays."""
-    names, groups, shapes, entries, fixed = [], [], [], [], []
+    names, groups, shapes, entries, fixed, labels = [], [], [], [], [], []
     for i, entry in enumerate(scene.blocks):
         key = f"blocks.{i}"
         if entry.material not in scene.materials:
@@ -282,6 +301,7 @@ def build_model(scene: Scene, path: Path) -> Model:
             if fault:
                 shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
                 raise _error(path, f"{key}.{shape_key}", f"block {k}: {fault}" if family else fault)
+            labels.append(_edge_labels(entry, len(shape), path, key))
             names.append(f"{entry.name}.{k}" if family else entry.name)
             groups.append(entry.group or entry.name)
             shapes.append(shape)
@@ -331,7 +351,21 @@ def build_model(scene: Scene, path: Path) -> Model:
 
     law_names = list(scene.joint_laws)
     rows = [_joint_law_row(law) for law in scene.joint_laws.values()]
-    law_codes = np.array([r[0] for r in rows], dtype=np.int64)
+    law_codes = np.array([r[0] + [-1] for r in rows], dtype=np.int64)
+    for j, (name, law) in enumerate(scene.joint_laws.items()):
+        target = getattr(law, "breaks_into", None)
+        if target is None:
+            continue
+        key = f"joint_laws.{name}.breaks_into"
+        if target not in law_names:
+            raise _error(path, key, f"no joint law '{target}' in joint_laws")
+        if law.cohesion_MPa == 0.0 and law.tensile_strength_MPa == 0.0:
+            raise _error(path, key, "a bridge with no strength: give it cohesion_MPa or tensile_strength_MPa")
+        if getattr(scene.joint_laws[target], "breaks_into", None) is not None:
+            raise _error(path, key, f"'{target}' breaks into a law itself: a bridge breaks into a joint")
+        if target == name:
+            raise _error(path, key, "a law cannot break into itself")
+        law_codes[j, L.BREAKS_INTO] = law_names.index(target)
     params = np.array([r[1] for r in rows])
     contacts = scene.contacts
     if contacts.default_law not in law_names:
@@ -339,6 +373,11 @@ def build_model(scene: Scene, path: Path) -> Model:
     rule_groups = np.full((len(contacts.rules), 2), -1, dtype=np.int64)
     rule_dip = np.tile([0.0, math.pi / 2], (len(contacts.rules), 1))
     rule_law = np.zeros(len(contacts.rules), dtype=np.int64)
+    label_names = sorted({""} | {label for shape_labels in labels for label in shape_labels})
+    edge_label = np.array(
+        [label_names.index(x) for shape_labels in labels for x in shape_labels], dtype=np.int64
+    )
+    rule_edges = np.ones((len(contacts.rules), len(label_names)), dtype=bool)
     for r, rule in enumerate(contacts.rules):
         key = f"contacts.rules.{r}"
         if rule.law not in law_names:
@@ -351,6 +390,10 @@ def build_model(scene: Scene, path: Path) -> Model:
                 rule_groups[r, k] = group_names.index(group)
         if rule.dip_deg:
             rule_dip[r] = np.array(rule.dip_deg) * units.deg
+        if rule.edges is not None:
+            rule_edges[r] = [x == rule.edges or x.startswith(rule.edges + ".") for x in label_names]
+            if not rule_edges[r].any():
+                raise _error(path, f"{key}.edges", f"no edge is labelled '{rule.edges}'")
 
     block_loads = np.zeros((len(scene.loads.block_forces), 5))
     load_block = np.zeros(len(scene.loads.block_forces), dtype=np.int64)
@@ -397,6 +440,9 @@ def build_model(scene: Scene, path: Path) -> Model:
         rule_groups=rule_groups,
         rule_dip=rule_dip,
         rule_law=rule_law,
+        rule_edges=rule_edges,
+        edge_label=edge_label,
+        label_names=label_names,
         default_law=law_names.index(contacts.default_law),
         gravity=_gravity(scene),
         block_loads=block_loads,

@@ -100,6 +100,7 @@ class BlockEntry(Section):
     material: str
     group: str | None = None  # contact rules and joint monitors select blocks by group [name]
     polygon_m: Annotated[list[Pair], Field(min_length=3)] | None = None
+    edge_labels: list[str] | None = None  # polygon_m: one per edge, edge k from vertex k to k + 1
     rectangle_m: Rectangle | None = None
     brick_wall: BrickWall | None = None
     jointed_slope: JointedSlope | None = None
@@ -124,6 +125,7 @@ class ConstantLaw(Section):
     friction_deg: Annotated[float, Field(ge=0, lt=90)]
     tensile_strength_MPa: NonNegative = 0.0
     after_slip: AfterSlip = "keep"
+    breaks_into: str | None = None  # intact rock (a bridge): the joint law it becomes where it breaks
 
 
 class BartonBandisStrength(BartonBandisJoint):
@@ -243,11 +245,13 @@ JointLaw = Annotated[ConstantLaw | BartonBandisLaw | MobilizedLaw, Field(discrim
 
 
 class ContactRule(Section):
-    """Contacts between the two groups (either order) and/or with a dip in the range get `law`."""
+    """Contacts between the two groups (either order), with a dip in the range, and/or on an edge whose
+    label is `edges` or starts with `edges.` get `law`."""
 
     law: str
     groups: Names | None = None
     dip_deg: Pair | None = None
+    edges: str | None = None
 
 
 class Contacts(Section):

@@ -52,6 +52,7 @@ class State:
     n_sub: int
     immobile: np.ndarray  # blocks held still for the whole run (`Model.immobile`)
     moving: np.ndarray  # blocks whose motion the cycle computes (all, unless held ones are skipped)
+    dry_edges: np.ndarray  # edges of intact rock that joint water does not reach (until it breaks)
     searches: int = 0
     dt_range: list[float] = field(default_factory=lambda: [math.inf, 0.0])
     largest_overlap: float = 0.0
@@ -88,18 +89,22 @@ def initial_state(model: Model) -> State:
         n_sub=n_sub,
         immobile=immobile,
         moving=~immobile if model.economy.skip_held_blocks else np.ones(len(blocks), dtype=bool),
+        dry_edges=np.zeros(len(model.local), dtype=bool),
     )
 
 
 def _joint_types(model: Model, found: np.ndarray, normal: np.ndarray) -> np.ndarray:
     """The joint law of each new contact: the first matching rule, else the default. The dip is that of
-    the contact's common line (`normal`: the face a corner presses on)."""
+    the contact's common line (`normal`: the face a corner presses on); a rule with `edges` matches a
+    contact one of whose edges carries that label."""
     dip = np.arctan2(np.abs(normal[:, 0]), np.abs(normal[:, 1]))
     ga, gb = model.block_group[found[:, 2]], model.block_group[found[:, 3]]
     types = np.full(len(found), model.default_law, dtype=np.int64)
     open_ = np.ones(len(found), dtype=bool)
-    for (g1, g2), (lo, hi), law in zip(model.rule_groups, model.rule_dip, model.rule_law, strict=True):
-        match = open_ & (dip >= lo - 1e-12) & (dip <= hi + 1e-12)
+    label_a, label_b = model.edge_label[found[:, 0]], model.edge_label[found[:, 1]]
+    rules = zip(model.rule_groups, model.rule_dip, model.rule_law, model.rule_edges, strict=True)
+    for (g1, g2), (lo, hi), law, edges in rules:
+        match = open_ & (dip >= lo - 1e-12) & (dip <= hi + 1e-12) & (edges[label_a] | edges[label_b])
         if g1 >= 0:
             match &= ((ga == g1) & (gb == g2)) | ((ga == g2) & (gb == g1))
         types[match] = law
@@ -142,13 +147,25 @@ def search_contacts(model: Model, state: State) -> None:
     joint_state.initial_joint_state(
         contacts, subs, n_sub, model.laws, model.params, first_new, state.step == 0
     )
+    if state.step == 0:  # intact rock (a type that breaks into a joint) keeps joint water out
+        intact = model.laws[contacts[first_new:, L.JOINT_TYPE], L.BREAKS_INTO] >= 0
+        state.dry_edges[contacts[first_new:][intact][:, [L.EDGE_A, L.EDGE_B]].ravel()] = True
     new_contacts, new_subs = contacts[first_new:], subs[first_new * n_sub :]
     if model.variable_laws:
         joint_state.update_joint_laws(
             new_contacts, new_subs, n_sub, model.laws, model.params, model.economy.changed_laws_only
         )
     contact_forces.contact_forces(
-        b, state.world, model.vertex_next, new_contacts, new_subs, n_sub, model.laws, model.params, 0.0
+        b,
+        state.world,
+        model.vertex_next,
+        new_contacts,
+        new_subs,
+        n_sub,
+        model.laws,
+        model.params,
+        0.0,
+        state.dry_edges,
     )
     state.contacts, state.subs = contacts, subs
     b[:, [L.XR, L.YR, L.THR]] = b[:, [L.X, L.Y, L.TH]]
@@ -321,6 +338,7 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             model.load_edge,
             model.water_surface,
             model.water_unit_weight,
+            state.dry_edges,
             solver.damping,
             model.search_margin,
             TIME_STEP_MODES[ts.mode],

@@ -139,6 +139,7 @@ def add_water_loads(
     moving: np.ndarray,
     surface: np.ndarray,
     unit_weight: float,
+    dry: np.ndarray,
 ) -> None:
     """Add the water pressure's resultant force [N/m] and moment about the centroid [N m/m] on every
     edge of each `moving` block to blocks[b, FX], blocks[b, FY], blocks[b, FM].
@@ -146,7 +147,8 @@ def add_water_loads(
     `world`: vertex coordinates [m], float (n_vertices, 2), block b's counter-clockwise vertices being
     rows vertex_start[b] .. vertex_start[b + 1] - 1; edge e runs from world[e] to world[vertex_next[e]].
     `surface`: phreatic polyline [m], float (m, 2), x strictly increasing; `unit_weight`: gamma_w
-    [N/m^3]. Edges wholly above the polyline's highest point are skipped. No allocation.
+    [N/m^3]. Edges wholly above the polyline's highest point are skipped, and so are `dry` ones (per
+    edge: intact rock, which carries no joint water pressure until it breaks). No allocation.
     """
     if unit_weight == 0.0:
         return
@@ -159,7 +161,7 @@ def add_water_loads(
         cx, cy = blocks[b, X], blocks[b, Y]
         for e in range(vertex_start[b], vertex_start[b + 1]):
             n = vertex_next[e]
-            if world[e, 1] >= top and world[n, 1] >= top:
+            if dry[e] or (world[e, 1] >= top and world[n, 1] >= top):
                 continue
             fx, fy, moment = edge_water_load(
                 world[e, 0], world[e, 1], world[n, 0], world[n, 1], cx, cy, surface, unit_weight

@@ -81,6 +81,62 @@ def block_on_plane(law: dict, width: float, height: float) -> dict:
     }
 
 
+JENNINGS_JOINT = {**MOHR_COULOMB, "friction_deg": 25.0}
+JENNINGS_BRIDGE = {**MOHR_COULOMB, "friction_deg": 45.0, "cohesion_MPa": 0.02, "tensile_strength_MPa": 0.01}
+JENNINGS_BLOCK = (10.0, 0.5)  # width, height [m]: low, so the base's normal stress is near uniform
+
+
+def block_on_bridged_plane(persistence: float, brittle: bool) -> dict:
+    """A block on a plane of persistence k (Jennings 1970): the base under it is the joint over k of its
+    width, half at each end, and intact rock (a rock bridge) over the middle 1 - k, so the base's normal
+    stress, linear along it, loads the joint with k of the block's weight. The bridge is ductile
+    (`brittle` False: it keeps its strength as it slips) or breaks into the joint at its first slip."""
+    width, height = JENNINGS_BLOCK
+    end, middle = 0.5 * persistence * width, (1.0 - persistence) * width
+    turn = {"rotate_deg": DIP_DEG, "rotate_about_m": [0.0, 0.0]}
+    pieces = [("base_joint_left", end), ("base_bridge", middle), ("base_joint_right", end)]
+    x, base = -width, []
+    for name, length in pieces:
+        group = "bridge" if name == "base_bridge" else "joint"
+        rectangle = {"x_m": x, "y_m": -1.0, "width_m": length, "height_m": 1.0}
+        base.append(
+            {
+                "name": name,
+                "group": group,
+                "material": "rock",
+                "rectangle_m": rectangle,
+                "fix": ["x", "y", "rotation"],
+            }
+            | turn
+        )
+        x += length
+    slider = {"x_m": -width, "y_m": 0.0, "width_m": width, "height_m": height}
+    bridge = JENNINGS_BRIDGE | ({"breaks_into": "joint"} if brittle else {})
+    return {
+        "name": f"bridged_plane_k{round(100 * persistence)}" + ("_brittle" if brittle else ""),
+        "materials": {"rock": {"density_kg_m3": DENSITY}},
+        "blocks": [*base, {"name": "slider", "material": "rock", "rectangle_m": slider, **turn}],
+        "joint_laws": {"joint": JENNINGS_JOINT, "bridge": bridge},
+        "contacts": {"default_law": "joint", "rules": [{"law": "bridge", "groups": ["slider", "bridge"]}]},
+        "solver": BLOCK_SOLVER,
+    }
+
+
+def jennings_factor_of_safety(persistence: float) -> float:
+    """Jennings' (1970) weighted strength over the driving force: (k tau_joint + (1 - k) tau_bridge) A /
+    (W sin psi), tau = c + sigma_n tan phi with the block's mean normal stress on each part [1]."""
+    width, height = JENNINGS_BLOCK
+    dip = math.radians(DIP_DEG)
+    weight = DENSITY * G * width * height
+    sigma = weight * math.cos(dip) / width
+
+    def tau(law: dict) -> float:
+        return law.get("cohesion_MPa", 0.0) * 1e6 + sigma * math.tan(math.radians(law["friction_deg"]))
+
+    strength = persistence * tau(JENNINGS_JOINT) + (1.0 - persistence) * tau(JENNINGS_BRIDGE)
+    return strength * width / (weight * math.sin(dip))
+
+
 def _flat_block_stresses() -> tuple[float, float]:
     """sigma_n and tau under the flat block [Pa]."""
     weight = DENSITY * G * FLAT_BLOCK[1]
