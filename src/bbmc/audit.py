@@ -15,10 +15,10 @@ import numpy as np
 import pandas as pd
 from scipy import optimize
 
-from bbmc import joint_model as jm
 from bbmc import laws, units
 from bbmc.comparison import TOLERANCES, judge
 from bbmc.fitting import linear_fit
+from bbmc.joint import model as jm
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ from bbmc.dem.scene import (
     Monitor,
     Scene,
 )
-from bbmc.joint_model import SIGMA_REF
+from bbmc.joint.model import SIGMA_REF
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 SHEAR_CODES = {

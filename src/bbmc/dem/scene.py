@@ -14,7 +14,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import Section
-from bbmc.joint_model import BartonBandisJoint
+from bbmc.joint.model import BartonBandisJoint
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
 Names = Annotated[list[str], Field(min_length=2, max_length=2)]

@@ -3,7 +3,7 @@ style of Barton's figures: scale effects, peak and residual envelopes with their
 mobilized tau-delta and dilation curves, and the Bandis closure.
 
 The config gives the joint in the units of its key names; they are converted to SI here, and the
-computing is in `bbmc.joint_curves`, the drawing in `bbmc.joint_figures`.
+computing is in `bbmc.joint.curves`, the drawing in `bbmc.joint.figures`.
 """
 
 from __future__ import annotations
@@ -13,10 +13,11 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, ValidationInfo, field_validator
 
-from bbmc import joint_curves as jc
-from bbmc import joint_figures, laws, units
+from bbmc import laws, units
 from bbmc.config import Section
 from bbmc.io import StageResult
+from bbmc.joint import curves as jc
+from bbmc.joint import figures as joint_figures
 
 NAME = "joint"
 

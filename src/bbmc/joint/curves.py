@@ -7,7 +7,7 @@ units their column names carry (MPa, mm, deg, kPa, MPa/mm). Two scales are evalu
 JRC_0, JCS_0) and the field (L_n, JRC_n, JCS_n from Barton & Bandis 1982). The closure keeps the lab
 values at both scales: the Bandis fits were made on lab specimens (`bbmc.laws.mobilized`, note (a)).
 
-No plotting here: `bbmc.joint_figures` draws from these tables.
+No plotting here: `bbmc.joint.figures` draws from these tables.
 """
 
 from __future__ import annotations
