@@ -18,18 +18,8 @@ import numpy as np
 import pandas as pd
 
 from bbmc import laws, units
+from bbmc.laws.mobilized import MOBILIZATION_TABLE
 
-# Barton (1982), ONWI-308: delta/delta_peak -> JRC_mob/JRC_peak from 0.3 on (the point at 0 is
-# -phi_r/i and depends on the stress). Typed here as published, to be drawn over the law's curve.
-MOBILIZATION_TABLE: tuple[tuple[float, float], ...] = (
-    (0.3, 0.0),
-    (0.6, 0.75),
-    (1.0, 1.0),
-    (2.0, 0.85),
-    (4.0, 0.70),
-    (10.0, 0.50),
-    (100.0, 0.0),
-)
 LINEAR_POINTS = 401  # delta/delta_peak grid of a shear curve: evenly spaced from 0 ...
 LOG_POINTS = 201  # ... and log-spaced from SMALLEST_RATIO, merged, with every table point added
 SMALLEST_RATIO = 1.0e-3

@@ -18,6 +18,7 @@ from bbmc.config import Section
 from bbmc.io import StageResult
 from bbmc.joint import curves as jc
 from bbmc.joint import figures as joint_figures
+from bbmc.laws.mobilized import MOBILIZATION_TABLE
 
 NAME = "joint"
 
@@ -148,7 +149,7 @@ def run(config: Config) -> StageResult:
         figures={
             "envelopes": joint_figures.envelopes(envelopes, curves, dpi),
             "shear_curves": joint_figures.shear_curves(curves, scale, dpi),
-            "mobilization": joint_figures.mobilization(curves, jc.MOBILIZATION_TABLE, dpi),
+            "mobilization": joint_figures.mobilization(curves, MOBILIZATION_TABLE, dpi),
             "closure": joint_figures.closure(closing, dpi),
         },
     )
