@@ -13,11 +13,12 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, ValidationInfo, field_validator
 
-from bbmc import laws, units
+from bbmc import units
 from bbmc.config import Section
 from bbmc.io import StageResult
 from bbmc.joint import curves as jc
 from bbmc.joint import figures as joint_figures
+from bbmc.joint.derived import full_joint
 from bbmc.laws.mobilized import MOBILIZATION_TABLE
 
 NAME = "joint"
@@ -109,20 +110,27 @@ class Config(Section):
 
 
 def joint_parameters(config: Config) -> jc.Joint:
-    """The config's joint in SI; phi_r as given or phi_b - 20 deg (1 - r/R) (Barton & Choubey 1977)."""
+    """The config's joint in SI, phi_r and the closure derived once (`bbmc.joint.derived`)."""
     phi_b = config.phi_b_deg * units.deg
-    if config.phi_r_deg is not None:
-        phi_r = config.phi_r_deg * units.deg
-    else:
-        phi_r = float(laws.residual_friction_angle(phi_b, config.rebound_ratio))
+    lab, field = config.lab_length_m * units.m, config.field_length_m * units.m
+    derived = full_joint(
+        config.jrc0,
+        config.jcs0_MPa * units.MPa,
+        lab,
+        field,
+        phi_b=phi_b,
+        phi_r=None if config.phi_r_deg is None else config.phi_r_deg * units.deg,
+        rebound_ratio=config.rebound_ratio,
+        sigma_c=config.sigma_c_MPa * units.MPa,
+    )
     return jc.Joint(
         jrc0=config.jrc0,
         jcs0=config.jcs0_MPa * units.MPa,
         phi_b=phi_b,
-        phi_r=phi_r,
-        lab_length=config.lab_length_m * units.m,
-        field_length=config.field_length_m * units.m,
-        sigma_c=config.sigma_c_MPa * units.MPa,
+        phi_r=derived.phi_r,
+        lab_length=lab,
+        field_length=field,
+        closure=derived.closure,
         phi_max=config.phi_max_deg * units.deg,
         damage=None if config.damage == "barton_1985" else float(config.damage),
     )
@@ -133,11 +141,10 @@ def run(config: Config) -> StageResult:
     joint = joint_parameters(config)
     low, high = (s * units.MPa for s in config.envelope_range_MPa)
     stresses = np.sort(np.asarray(config.normal_stresses_MPa)) * units.MPa
-    closure = jc.closure_parameters(joint)
     scale = jc.scale_table(joint)
     envelopes = jc.envelope_table(joint, jc.envelope_stresses(low, high))
     curves = jc.shear_curves_table(joint, stresses, config.max_displacement_ratio)
-    closing = jc.closure_table(closure, jc.closure_stresses(closure, high))
+    closing = jc.closure_table(joint.closure, jc.closure_stresses(joint.closure, high))
     dpi = config.figure_dpi
     return StageResult(
         tables={
