@@ -59,7 +59,7 @@ def full_joint(
 
     phi_r [rad]: `phi_r` as given, else from `phi_b` [rad] and `rebound_ratio` r/R [1] when both are
     given, else None. The closure: from `aperture` a_j [m] if given, else from the rock's uniaxial
-    strength `sigma_c` [Pa], else None. The inputs are taken as checked (`bbmc.dem.scene.MobilizedLaw`).
+    strength `sigma_c` [Pa], else None. The inputs are taken as checked (`bbmc.joint.inputs`).
     """
     jrc = float(laws.scaled_jrc(jrc0, lab_length, field_length))
     jcs = float(laws.scaled_jcs(jcs0, jrc0, lab_length, field_length))
