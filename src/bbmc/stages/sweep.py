@@ -19,11 +19,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from bbmc.config import ConfigError, load_config, read_yaml
+from bbmc.config import ConfigError, read_yaml
 from bbmc.io import StageResult
 from bbmc.slope import safety
-from bbmc.slope.config import Config as SlopeConfig
-from bbmc.slope.config import load_table4
+from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design, figures, statistics
 from bbmc.sweep.config import Config, Planar, Toppling
 from bbmc.sweep.models import ERROR, FS, PlanarModel, SceneModel, TopplingModel, get_path
@@ -38,8 +37,7 @@ def _scene_tree(config: Config) -> dict:
     base = config.base
     if base.scene is not None:
         return read_yaml(base.scene)
-    slope = load_config(base.slope_config, SlopeConfig)
-    return safety.reduction_scene(slope, load_table4(slope.data), base.joint_model)
+    return safety.reduction_scene(*load_paper_slope(base.slope_config), base.joint_model)
 
 
 def model_of(config: Config, tree: dict | None) -> Model:
