@@ -1,18 +1,25 @@
 """`bbmc bench`'s parts: the Pareto front and the error on known answers, every economy exact on the
-paper's scenes, and the stage run into a temporary folder with a small config."""
+paper's scenes, the stage run into a temporary folder with a small config, and the sections run alone
+(`--only`) or left out of the config."""
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
+from click.testing import CliRunner
 
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.paper_scenes import Reading, ShearScene, SlopeScene, relative_error
 from bbmc.bench.tradeoff import pareto_front
+from bbmc.cli import main
+from bbmc.stages.bench import SECTIONS
 from stage_runs import CONFIGS, stage_folder
 
 
@@ -74,7 +81,7 @@ def _small(data):
     t["reference"] = {"update_interval_steps": 1, "safety_factor": 0.25, "sub_contacts_per_edge": 4}
     t["reference_check"] = {"safety_factor": 0.125}
     t["repeats"] = 1
-    data["economy"]["repeats"] = 1
+    data["economy"] = {"repeats": 1, "scenes": ["shear", "slope_barton_bandis"]}
     data["scaling"] = {"block_counts": [100, 300], "steps": 20, "repeats": 1, "memory_limit_GB": 4}
     data["laws"] = {"array_size": 2000, "python_loop_size": 200, "repeats": 1}
     data["engine_cost"] = {"commit": "deadbeef", "block_counts": [100], "steps": 20, "repeats": 1}
@@ -148,3 +155,55 @@ def test_recommended_value_is_the_fastest_within_the_target_when_measurably_fast
         if row.measurably_faster == "True":
             assert row.recommended == fastest
             assert float(row.its_time_over_default) < 1 - float(row.timing_noise)
+
+
+LAWS = {"array_size": 2000, "python_loop_size": 200, "repeats": 1}
+
+
+def _bench(tmp_path: Path, sections: dict, *options: str):
+    """`bbmc bench` on a config of the paper's two scenes and `sections`, into tmp_path/results."""
+    config = {"shear_config": str(CONFIGS / "shear.yaml"), "slope_config": str(CONFIGS / "slope.yaml")}
+    path = tmp_path / "bench.yaml"
+    path.write_text(yaml.safe_dump(config | sections))
+    results = tmp_path / "results"
+    args = ["bench", "--config", str(path), "--results", str(results), *options]
+    return CliRunner().invoke(main, args), results / "bench"
+
+
+def test_a_section_left_out_of_the_config_is_skipped_with_one_line_saying_so(tmp_path):
+    outcome, out = _bench(tmp_path, {"laws": LAWS})
+    assert outcome.exit_code == 0, outcome.output
+    skipped = [line for line in outcome.stderr.splitlines() if line.endswith("skipped")]
+    assert len(skipped) == len(SECTIONS) - 1
+    for name in SECTIONS[:-1]:
+        assert sum(f"section '{name}' is not in the config" in line for line in skipped) == 1
+    assert {p.name for p in out.iterdir()} == {"laws.csv", "provenance.json"}
+    assert len(pd.read_csv(out / "laws.csv")) == 4
+
+
+def test_only_runs_the_sections_it_names(tmp_path):
+    mobilized = {"sub_contacts": 1000, "repeats": 1, "update_intervals": [50]}
+    outcome, out = _bench(tmp_path, {"laws": LAWS, "mobilized": mobilized}, "--only", "laws")
+    assert outcome.exit_code == 0, outcome.output
+    assert "skipped" not in outcome.stderr
+    assert {p.name for p in out.iterdir()} == {"laws.csv", "provenance.json"}
+    assert json.loads((out / "provenance.json").read_text())["only"] == ["laws"]
+
+
+@pytest.mark.parametrize(
+    ("sections", "only", "fragments"),
+    [
+        ({"laws": LAWS}, "laws,scaling_law", ("--only", "'scaling_law'", ", ".join(SECTIONS))),
+        ({"laws": LAWS}, "engine_cost", ("--only", "no section 'engine_cost'")),
+        ({}, None, ("bench.yaml", "no section to run", ", ".join(SECTIONS))),
+    ],
+)
+def test_a_section_that_cannot_run_is_refused_in_one_line(tmp_path, sections, only, fragments):
+    outcome, out = _bench(tmp_path, sections, *(["--only", only] if only else []))
+    assert outcome.exit_code == 2, outcome.output
+    lines = outcome.stderr.strip().splitlines()
+    assert len(lines) == 1, outcome.stderr
+    assert "Traceback" not in outcome.output + outcome.stderr
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+    assert not out.exists()

@@ -12,7 +12,7 @@ import pytest
 from scipy.integrate import quad
 
 from bbmc import laws, units
-from bbmc.joint_model import SIGMA_REF
+from bbmc.joint.model import SIGMA_REF
 from dem_scenes import (
     SLIDER,
     G,

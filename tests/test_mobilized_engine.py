@@ -179,10 +179,13 @@ def test_closure_under_normal_load_follows_bandis_hyperbola():
         ({"phi_r_deg": 35.0}, "exceeds phi_b_deg"),
         ({"normal_stiffness": {"law": "bandis", "sigma_c_MPa": 50.0}}, "below jcs0_MPa"),
         ({"phi_b_deg": 15.0, "phi_r_deg": None, "rebound_ratio": 0.1}, "phi_r"),
+        ({"phi_max_deg": 25.0}, "exceed phi_b_deg"),
+        ({"damage": 0.0}, "M > 0"),
     ],
 )
 def test_meaningless_mobilized_parameters_are_refused(change, fragment):
-    """phi_r above phi_b, a rock weaker than its joint wall, or an r/R that gives phi_r <= 0."""
+    """phi_r above phi_b, a rock weaker than its joint wall, an r/R that gives phi_r <= 0, a cap phi_max
+    below phi_b or a damage M <= 0: the checks `bbmc joint` makes too (`bbmc.joint.inputs`)."""
     law = {k: v for k, v in {**LAW, **change}.items() if v is not None}
     with pytest.raises(ValueError, match=fragment):
         Scene.model_validate(_box(law, 10, None), strict=False)

@@ -16,11 +16,11 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
-from bbmc import joint_model as jm
 from bbmc import laws, units
 from bbmc.cli import main
 from bbmc.comparison import TOLERANCES, within
 from bbmc.config import load_config
+from bbmc.joint import model as jm
 from bbmc.paper_inputs import parameters
 from bbmc.shear import box
 from bbmc.shear import calibration as cal

@@ -407,7 +407,7 @@ def test_goodman_bray_limiting_friction_does_not_depend_on_the_sub_contact_count
 
 
 def test_the_toppling_column_scene_topples_about_its_corner():
-    """configs/scenes/toppling_column.yaml (the issue's column: 0.4 m x 1 m, 30 deg, phi 60 deg):
+    """configs/scenes/toppling_column.yaml (a column 0.4 m x 1 m on a 30 deg incline, phi 60 deg):
     it turns past 45 deg about its lower corner, which has slipped less than 1 mm by the time it has
     turned 30 deg (falling faster, it then asks more friction of the corner and slips); no error when
     it is in the air between impacts."""

@@ -118,10 +118,16 @@ def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
 
 
 def _run_stage(
-    stage: ModuleType, config_path: Path, results: str, strict: bool, progress_after_s: float | None = None
+    stage: ModuleType,
+    config_path: Path,
+    results: str,
+    strict: bool,
+    progress_after_s: float | None = None,
+    **options: object,
 ) -> None:
     """Load the stage's config, run it, write its results. `progress_after_s`: the stage reports its
-    steps, shown on stderr once the run has lasted that long (None: a stage without progress)."""
+    steps, shown on stderr once the run has lasted that long (None: a stage without progress).
+    `options`: the command's own options, passed to the stage's run and recorded in its provenance."""
     with _reported(stage.NAME, strict):
         settings = load_config(config_path, stage.Config)
         if progress_after_s is None:
@@ -133,8 +139,8 @@ def _run_stage(
                 if time.perf_counter() - started >= progress_after_s:
                     click.echo(f"bbmc {stage.NAME}: {step}", err=True)
 
-            result = stage.run(settings, progress)
-        record = provenance(stage.NAME, config_path, settings)
+            result = stage.run(settings, progress, **options)
+        record = provenance(stage.NAME, config_path, settings) | options
         written = write_stage(Path(results) / stage.NAME, result, record)
     _report_written(stage.NAME, Path(results) / stage.NAME, written)
 
@@ -372,7 +378,14 @@ def sweep_command(
 
 @main.command(name="bench")
 @_file_options("bench", "config", "configs/bench.yaml")
-def bench_command(config_path: Path, results: str, strict: bool) -> None:
+@click.option(
+    "--only",
+    default=None,
+    metavar="SECTIONS",
+    help="Run only these sections of the config, comma-separated (e.g. scaling,engine_cost); "
+    "the results folder then holds only theirs. [default: every section the config gives]",
+)
+def bench_command(config_path: Path, results: str, strict: bool, only: str | None) -> None:
     """Measure what speed costs in accuracy, the work the engine leaves out, its growth, the laws' speed.
 
     \b
@@ -387,9 +400,12 @@ def bench_command(config_path: Path, results: str, strict: bool) -> None:
     mobilized_cost.csv (the full Barton-Bandis law's update cost and update schedules), sweep_cost.csv
     (sweep throughput, speed-up on 2 processes and a LocalCluster, task overhead),
     laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
-    Takes minutes; wall times depend on the machine: compare the ratios.
+    Takes minutes; wall times depend on the machine: compare the ratios. Each section of the
+    config (tradeoff, economy, scaling, engine_cost, fos, mobilized, sweep, laws) is optional;
+    `bbmc bench --only scaling,engine_cost` runs those alone.
     """
-    _run_stage(bench_stage, config_path, results, strict, progress_after_s=0.0)
+    options = {} if only is None else {"only": [name.strip() for name in only.split(",")]}
+    _run_stage(bench_stage, config_path, results, strict, progress_after_s=0.0, **options)
 
 
 @main.command(name="slope")

@@ -9,9 +9,9 @@ from typing import Literal, Protocol
 
 import pandas as pd
 
-from bbmc import joint_model as jm
 from bbmc.config import InputFile, Section
 from bbmc.io import ANY, POSITIVE, read_table
+from bbmc.joint import model as jm
 
 Coefficients = Literal["printed", "fitted"]  # eq 4's coefficients: as printed, or our Table 1 fits
 

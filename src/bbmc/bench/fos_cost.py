@@ -18,13 +18,12 @@ from pathlib import Path
 
 import pandas as pd
 
-from bbmc.config import load_config
 from bbmc.dem.model import build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.strength_reduction import factor_of_safety
 from bbmc.slope import fos_cases, safety
 from bbmc.slope import model as sm
-from bbmc.slope.config import Config, load_table4
+from bbmc.slope.config import load_paper_slope
 
 
 def merged(scene: dict, change: dict) -> dict:
@@ -36,8 +35,7 @@ def merged(scene: dict, change: dict) -> dict:
 
 
 def paper_slope_cases(slope_config: Path) -> list[fos_cases.Case]:
-    config = load_config(slope_config, Config)
-    table4 = load_table4(config.data)
+    config, table4 = load_paper_slope(slope_config)
     expected = {
         row["model"]: (row["factor_of_safety"], f"planar limit equilibrium, {row['strength']}")
         for row in safety.limit_equilibrium(config, table4)

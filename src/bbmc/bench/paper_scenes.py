@@ -152,10 +152,9 @@ class SlopeScene:
     what = "displacement of blocks 1-4 at the end of the run"
 
     def __init__(self, config_path: Path, kind: sm.JointModel) -> None:
-        self.config = load_config(config_path, slope_config.Config)
+        self.config, self.table4 = slope_config.load_paper_slope(config_path)
         self.kind, self.name = kind, f"slope_{kind}"
         self.stress_dependent = kind != "constant"
-        self.table4 = slope_config.load_table4(self.config.data)
         probe = self._model(self.defaults())
         self.numbering = sm.paper_numbering(sm.sliding_layer(probe, self.config.slope))
         self.labels = tuple(f"block {n}" for n in sm.PAPER_NUMBERS)

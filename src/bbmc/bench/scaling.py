@@ -33,14 +33,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from bbmc.config import load_config
 from bbmc.dem import layout as L
 from bbmc.dem import polygons
 from bbmc.dem.model import build_model
 from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import advance, prepare
 from bbmc.slope import model as sm
-from bbmc.slope.config import Config, load_table4
+from bbmc.slope.config import load_paper_slope
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -58,8 +57,7 @@ MAXRSS_BYTES = 1 if sys.platform == "darwin" else 1024  # ru_maxrss is in bytes 
 @functools.cache
 def _paper_slope(slope_config: str) -> tuple[JointedSlope, float, dict, sm.Run]:
     """The slope, rock density [kg/m3], constant joint-law entry and run settings of a slope config."""
-    config = load_config(slope_config, Config)
-    table4 = load_table4(config.data)
+    config, table4 = load_paper_slope(slope_config)
     law = sm.joint_law("constant", table4, config.constant, config.barton_bandis)
     return config.slope, table4.density_kg_m3, law, config.run
 

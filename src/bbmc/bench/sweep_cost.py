@@ -20,11 +20,9 @@ from pathlib import Path
 
 import pandas as pd
 
-from bbmc.config import load_config
 from bbmc.slope import fos_cases as fc
 from bbmc.slope import safety
-from bbmc.slope.config import Config as SlopeConfig
-from bbmc.slope.config import load_table4
+from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design
 from bbmc.sweep.models import PlanarModel, SceneModel
 from bbmc.sweep.runner import run_batches
@@ -86,8 +84,7 @@ def sweep_cost_table(
     progress("sweep cost: DEM factor of safety, one core")
     block = SceneModel(fc.block_on_plane(fc.MOHR_COULOMB, 0.8, 0.2), "block_on_plane", "scene_fos")
     rows.append(_dem_row("block on a plane, FS by strength reduction", block, _dem_design(dem_samples)))
-    config = load_config(slope_config, SlopeConfig)
-    scene = safety.reduction_scene(config, load_table4(config.data), "barton_bandis")
+    scene = safety.reduction_scene(*load_paper_slope(slope_config), "barton_bandis")
     slope = SceneModel(scene, "paper slope", "scene_fos")
     slope_design = design.sample_table(
         [("joint_laws.joint.strength.phi_b_deg", design.marginal("normal", mean=33.4, std=2.0))],

@@ -25,7 +25,8 @@ from bbmc.dem.scene import (
     Monitor,
     Scene,
 )
-from bbmc.joint_model import SIGMA_REF
+from bbmc.joint.derived import full_joint
+from bbmc.joint.model import SIGMA_REF
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 SHEAR_CODES = {
@@ -197,35 +198,32 @@ def _edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[
 
 def _mobilized_law_row(law: MobilizedLaw, p: np.ndarray) -> tuple[list[int], np.ndarray]:
     """The mobilized law's parameters: JRC_n, JCS_n at the field length, phi_r, delta_peak, M, and the
-    Bandis closure's K_ni, V_m (from the lab-scale JRC_0, JCS_0, where the fits were made)."""
-    lab, field = law.lab_length_m, law.field_length_m or law.lab_length_m
-    jcs0 = law.jcs0_MPa * units.MPa
-    jrc_n = float(laws.scaled_jrc(law.jrc0, lab, field))
-    p[L.P_JRC], p[L.P_JCS] = jrc_n, float(laws.scaled_jcs(jcs0, law.jrc0, lab, field))
-    phi_b = law.phi_b_deg * units.deg
-    p[L.P_PHI_B] = (
-        law.phi_r_deg * units.deg
-        if law.phi_r_deg is not None
-        else float(laws.residual_friction_angle(phi_b, law.rebound_ratio))
+    Bandis closure's K_ni, V_m (`bbmc.joint.derived`)."""
+    normal = law.normal_stiffness
+    bandis = normal.law == "bandis"
+    joint = full_joint(
+        law.jrc0,
+        law.jcs0_MPa * units.MPa,
+        law.lab_length_m,
+        law.field_length_m or law.lab_length_m,
+        phi_b=law.phi_b_deg * units.deg,
+        phi_r=None if law.phi_r_deg is None else law.phi_r_deg * units.deg,
+        rebound_ratio=law.rebound_ratio,
+        aperture=normal.aperture_mm * units.mm if bandis and normal.aperture_mm is not None else None,
+        sigma_c=normal.sigma_c_MPa * units.MPa if bandis and normal.sigma_c_MPa is not None else None,
     )
+    p[L.P_JRC], p[L.P_JCS], p[L.P_PHI_B] = joint.jrc, joint.jcs, joint.phi_r
     p[L.P_PHI_MAX] = law.phi_max_deg * units.deg
-    p[L.P_PEAK_DISPLACEMENT] = float(laws.peak_shear_displacement(field, jrc_n))
+    p[L.P_PEAK_DISPLACEMENT] = joint.peak_displacement
     p[L.P_DAMAGE] = 0.0 if law.damage == "barton_1985" else law.damage
     p[L.P_STRESS_FLOOR] = law.stress_floor_MPa * units.MPa
     p[L.P_KS] = law.shear_stiffness.ks_MPa_per_mm * units.MPa_per_mm
-    normal = law.normal_stiffness
-    if normal.law == "constant":
+    if joint.closure is None:
         p[L.P_KN] = normal.kn_MPa_per_mm * units.MPa_per_mm
         normal_code = L.NORMAL_CONSTANT
     else:
-        aperture = (
-            normal.aperture_mm * units.mm
-            if normal.aperture_mm is not None
-            else float(laws.initial_aperture(law.jrc0, jcs0, normal.sigma_c_MPa * units.MPa))
-        )
-        p[L.P_K_NI] = float(laws.bandis_initial_normal_stiffness(law.jrc0, jcs0, aperture))
-        p[L.P_V_M] = float(laws.bandis_maximum_closure(law.jrc0, jcs0, aperture))
-        p[L.P_KN] = p[L.P_K_NI]
+        p[L.P_K_NI] = p[L.P_KN] = joint.closure.kni
+        p[L.P_V_M] = joint.closure.vm
         normal_code = L.NORMAL_BANDIS
     return [L.STRENGTH_MOBILIZED, normal_code, L.SHEAR_CONSTANT, L.AFTER_SLIP_KEEP], p
 

@@ -14,7 +14,8 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import Section
-from bbmc.joint_model import BartonBandisJoint
+from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
+from bbmc.joint.model import BartonBandisJoint
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
 Names = Annotated[list[str], Field(min_length=2, max_length=2)]
@@ -206,38 +207,22 @@ class BandisNormal(Section):
         return self
 
 
-class MobilizedLaw(Section):
+class MobilizedLaw(FullJointInputs):
     """The full Barton-Bandis joint (Barton 1982; Barton & Bandis 1982; Bandis et al. 1983; Barton,
     Bandis & Bakhtar 1985): strength and dilation mobilized along each sub-contact's shear path, from
-    zero through the peak to the residual; JRC and JCS scaled from the lab length to the field length."""
+    zero through the peak to the residual; JRC and JCS scaled from the lab length to the field length.
+    The joint's own keys and their checks are `bbmc.joint.inputs`'s, shared with `bbmc joint`."""
 
     law: Literal["barton_bandis_mobilized"]
-    jrc0: Annotated[float, Field(ge=0, le=20)]
-    jcs0_MPa: Positive
-    phi_b_deg: Annotated[float, Field(gt=0, lt=90)]
-    phi_r_deg: Annotated[float, Field(gt=0, lt=90)] | None = None  # or from rebound_ratio
-    rebound_ratio: Annotated[float, Field(gt=0, le=1)] | None = None  # r/R: phi_r = phi_b - 20 + 20 r/R
-    lab_length_m: Positive = 0.1  # L_0
-    field_length_m: Positive | None = None  # L_n [default: lab_length_m, no scale effect]
-    phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
-    damage: Literal["barton_1985"] | Positive = "barton_1985"  # M of d_mob = JRC_mob lg(JCS/sigma_n) / M
     normal_stiffness: ConstantNormal | BandisNormal = Field(discriminator="law")
     shear_stiffness: ConstantShear
     stress_floor_MPa: Positive = 0.01  # the stiffness and the dilation are evaluated at >= this
 
     @model_validator(mode="after")
-    def _residual(self) -> MobilizedLaw:
-        _exactly_one(self, ("phi_r_deg", "rebound_ratio"), "residual friction source")
-        if self.phi_r_deg is not None and self.phi_r_deg > self.phi_b_deg:
-            raise ValueError(f"phi_r_deg ({self.phi_r_deg}) exceeds phi_b_deg ({self.phi_b_deg})")
-        if self.rebound_ratio is not None and self.phi_b_deg - 20.0 * (1.0 - self.rebound_ratio) <= 0.0:
-            raise ValueError("rebound_ratio gives phi_r = phi_b_deg - 20 (1 - r/R) <= 0")
+    def _rock_behind_the_wall(self) -> MobilizedLaw:
         sigma_c = getattr(self.normal_stiffness, "sigma_c_MPa", None)
-        if sigma_c is not None and sigma_c < self.jcs0_MPa:
-            raise ValueError(
-                f"normal_stiffness.sigma_c_MPa ({sigma_c}) is below jcs0_MPa ({self.jcs0_MPa}): a joint "
-                "wall is not stronger than its rock (and the aperture fit would fall to its floor)"
-            )
+        if sigma_c is not None:
+            wall_not_stronger_than_rock(sigma_c, self.jcs0_MPa)
         return self
 
 

@@ -45,6 +45,7 @@ both sides of a branch across SIMD lanes, which raised spurious numpy divide/inv
 import math
 
 import numba
+import numpy as np
 
 from bbmc.laws.strength import roughness_angle
 
@@ -53,7 +54,24 @@ MPA = 1.0e6
 MM = 1.0e-3
 MPA_PER_MM = MPA / MM
 
-ZERO_ROUGHNESS_RATIO = 0.3  # delta/delta_peak where JRC_mob = 0 (Barton 1982)
+# Barton (1982), ONWI-308: delta/delta_peak -> JRC_mob/JRC_peak, as published, from 0.3 on (the point
+# at 0 is -phi_r/i and depends on the stress; `mobilized_roughness_ratio`). The laws interpolate it
+# (linear up to the peak at 1, linear in lg(delta/delta_peak) after); `bbmc joint` draws it over them.
+MOBILIZATION_TABLE: tuple[tuple[float, float], ...] = (
+    (0.3, 0.0),
+    (0.6, 0.75),
+    (1.0, 1.0),
+    (2.0, 0.85),
+    (4.0, 0.70),
+    (10.0, 0.50),
+    (100.0, 0.0),
+)
+ZERO_ROUGHNESS_RATIO = MOBILIZATION_TABLE[0][0]  # delta/delta_peak where JRC_mob = 0
+PEAK_RATIO = 1.0  # delta/delta_peak at the peak: the table is interpolated linearly up to it, in lg after
+# The table as the kernels read it (numba freezes global arrays into the compiled code): x, lg x, y.
+_TABLE_X = np.array([x for x, _ in MOBILIZATION_TABLE])
+_TABLE_LG_X = np.log10(_TABLE_X)
+_TABLE_Y = np.array([y for _, y in MOBILIZATION_TABLE])
 
 # Bandis, Lumsden & Barton (1983): V_m = A + B JRC + C (JCS/a_j)^D [mm], first loading cycle.
 VM_A = -0.2960
@@ -119,32 +137,35 @@ def _lerp(x: float, x0: float, y0: float, x1: float, y1: float) -> float:
 
 
 @numba.njit(cache=True)
+def _table_segment(x: float, k: int) -> float:
+    """JRC_mob/JRC_peak at x on the table's segment from point k - 1 to point k: linear in x up to the
+    peak, linear in lg x after it [1]."""
+    if _TABLE_X[k] <= PEAK_RATIO:
+        return _lerp(x, _TABLE_X[k - 1], _TABLE_Y[k - 1], _TABLE_X[k], _TABLE_Y[k])
+    return _lerp(math.log10(x), _TABLE_LG_X[k - 1], _TABLE_Y[k - 1], _TABLE_LG_X[k], _TABLE_Y[k])
+
+
+@numba.njit(cache=True)
 def _table_ratio(x: float) -> float:
-    """JRC_mob/JRC_peak at x = delta/delta_peak >= 0.3 from Barton (1982)'s table, which from there on
+    """JRC_mob/JRC_peak at x = delta/delta_peak >= 0.3 from `MOBILIZATION_TABLE`, which from there on
     does not depend on phi_r or i: linear in x up to 1, linear in lg x from 1 to 100, 0 beyond [1]."""
-    if x <= 0.6:
-        return _lerp(x, 0.3, 0.0, 0.6, 0.75)
-    if x <= 1.0:
-        return _lerp(x, 0.6, 0.75, 1.0, 1.0)
-    if x >= 100.0:
-        return 0.0
-    lg = math.log10(x)
-    if x <= 2.0:
-        return _lerp(lg, 0.0, 1.0, math.log10(2.0), 0.85)
-    if x <= 4.0:
-        return _lerp(lg, math.log10(2.0), 0.85, math.log10(4.0), 0.70)
-    if x <= 10.0:
-        return _lerp(lg, math.log10(4.0), 0.70, 1.0, 0.50)
-    return _lerp(lg, 1.0, 0.50, 2.0, 0.0)
+    last = _TABLE_X.size - 1
+    if x >= _TABLE_X[last]:
+        return _TABLE_Y[last]
+    for k in range(1, last):
+        if x <= _TABLE_X[k]:
+            return _table_segment(x, k)
+    return _table_segment(x, last)
 
 
 @numba.njit(cache=True)
 def mobilized_roughness_ratio(displacement_ratio: float, phi_r: float, peak_roughness_angle: float) -> float:
     """JRC_mob/JRC_peak [1] against x = |delta/delta_peak| (Barton 1982).
 
-    Table points: x = 0 -> -phi_r/i, 0.3 -> 0, 0.6 -> 0.75, 1 -> 1, 2 -> 0.85, 4 -> 0.70, 10 -> 0.50,
-    100 -> 0, and 0 beyond 100. i = peak_roughness_angle = JRC_peak lg(JCS/sigma_n) [rad], phi_r [rad]:
-    the value at 0 makes the mobilized angle phi_r + i (JRC_mob/JRC_peak) zero at delta = 0.
+    Table points: x = 0 -> -phi_r/i, then `MOBILIZATION_TABLE` (0.3 -> 0, 0.6 -> 0.75, 1 -> 1,
+    2 -> 0.85, 4 -> 0.70, 10 -> 0.50, 100 -> 0), and 0 beyond 100. i = peak_roughness_angle =
+    JRC_peak lg(JCS/sigma_n) [rad], phi_r [rad]: the value at 0 makes the mobilized angle
+    phi_r + i (JRC_mob/JRC_peak) zero at delta = 0.
 
     Interpolation: linear in x on [0, 1] and linear in lg x on [1, 100]. Barton draws the post-peak curve
     on a log displacement axis, where the points 1, 2, 4, 10, 100 lie on straight segments; the pre-peak

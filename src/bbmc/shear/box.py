@@ -30,13 +30,13 @@ import numpy as np
 import pandas as pd
 from pydantic import Field, model_validator
 
-from bbmc import joint_model as jm
 from bbmc import laws, units
 from bbmc.config import Section
 from bbmc.dem.layout import SLIPPED
 from bbmc.dem.model import EVERY_ECONOMY, Economy, build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.solver import simulate
+from bbmc.joint import model as jm
 
 Positive = Annotated[float, Field(gt=0)]
 Steps = Annotated[int, Field(ge=1)]

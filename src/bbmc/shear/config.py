@@ -6,10 +6,10 @@ from __future__ import annotations
 import pandas as pd
 from pydantic import Field, model_validator
 
-from bbmc import joint_model as jm
 from bbmc import paper_inputs as pi
 from bbmc.config import InputFile, Section
 from bbmc.io import ANY, POSITIVE, read_table
+from bbmc.joint import model as jm
 from bbmc.shear import box
 
 

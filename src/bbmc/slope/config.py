@@ -1,11 +1,14 @@
 """The config of the paper's jointed limestone slope (`bbmc slope`, configs/slope.yaml) and Table 4,
-read from the data files it names (`load_table4`)."""
+read from the data files it names (`load_table4`); `load_paper_slope` reads both, for every user of the
+paper's slope (the sweep's base, the benchmarks)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from pydantic import Field, model_validator
 
-from bbmc.config import InputFile, Section
+from bbmc.config import InputFile, Section, load_config
 from bbmc.dem.scene import JointedSlope, StrengthReduction
 from bbmc.io import ANY, POSITIVE, read_table
 from bbmc.slope import model as sm
@@ -90,7 +93,15 @@ class Config(Section):
         return self
 
 
+def load_paper_slope(path: str | Path) -> tuple[Config, sm.Table4]:
+    """The slope config at `path`, validated (a `ConfigError` naming the file and key otherwise), and the
+    Table 4 read from the data files it names."""
+    config = load_config(path, Config)
+    return config, load_table4(config.data)
+
+
 def load_table4(data: Inputs) -> sm.Table4:
+    """Table 4 (rock mass, constant and nonlinear joints) and the printed lg e, from the data files."""
     rock = read_table(data.table4_rock_mass, {"density_kg_per_m3": POSITIVE})
     constant = read_table(
         data.table4_joints_constant,

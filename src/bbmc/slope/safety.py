@@ -18,12 +18,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from bbmc import laws, units
+from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.solver import simulate
 from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.joint.derived import full_joint
 from bbmc.slope import model as sm
 from bbmc.slope import planar
 from bbmc.slope.config import Config, Residual
@@ -144,11 +145,8 @@ def peak_only_law(table4: sm.Table4, residual: Residual | None = None) -> dict:
     n, c = table4.nonlinear, table4.constant
     jrc, jcs = n["JRC"], n["JCS_MPa"]
     if residual is not None:
-        lab, field = residual.lab_length_m, residual.field_length_m
-        jrc, jcs = (
-            float(laws.scaled_jrc(n["JRC"], lab, field)),
-            float(laws.scaled_jcs(jcs, n["JRC"], lab, field)),
-        )
+        scaled = full_joint(jrc, jcs * units.MPa, residual.lab_length_m, residual.field_length_m)
+        jrc, jcs = scaled.jrc, scaled.jcs / units.MPa
     return {
         "law": "barton_bandis",
         "strength": {"jrc": jrc, "jcs_MPa": jcs, "phi_b_deg": n["phi_b_deg"]},

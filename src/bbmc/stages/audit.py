@@ -8,10 +8,10 @@ rule and the tolerances are in `bbmc.comparison`; the reasoning in docs/paper-au
 from __future__ import annotations
 
 from bbmc import audit as checks
-from bbmc import joint_model as jm
 from bbmc.config import InputFile, Section, load_config
 from bbmc.fitting import power_law_fit
 from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.joint import model as jm
 from bbmc.paper_inputs import Errata, load_inputs, parameters
 from bbmc.stages import fit, mc
 

@@ -20,8 +20,10 @@ laws.csv: for each law, evaluations per second as a numpy ufunc over an array, i
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
 the python column flatters plain Python for the composite laws), plus the ratios between them.
 
-Wall-clock numbers depend on the machine and its load; the ratios, measured in the same run, are what
-to compare across machines.
+Every section of the config is optional: a section left out is skipped, with a line saying so, and
+`bbmc bench --only scaling,engine_cost` runs only the sections named (its results folder then holds only
+theirs). Wall-clock numbers depend on the machine and its load; the ratios, measured in the same run, are
+what to compare across machines.
 """
 
 from __future__ import annotations
@@ -33,7 +35,8 @@ from typing import Annotated, Literal
 import numba
 import numpy as np
 import pandas as pd
-from pydantic import Field
+from matplotlib.figure import Figure
+from pydantic import Field, model_validator
 
 from bbmc import laws, units
 from bbmc.bench import tradeoff as to
@@ -44,17 +47,20 @@ from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.scaling import scaling_figure, scaling_table
 from bbmc.bench.sweep_cost import sweep_cost_table
-from bbmc.config import InputFile, Section
+from bbmc.config import ConfigError, InputFile, Section
 from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
 
 NAME = "bench"
+SECTIONS = ("tradeoff", "economy", "scaling", "engine_cost", "fos", "mobilized", "sweep", "laws")
 
 
 Fraction = Annotated[float, Field(gt=0, le=1)]
 Interval = Annotated[int, Field(ge=1, le=100_000)]
 SubContacts = Annotated[int, Field(ge=1, le=64)]
 Repeats = Annotated[int, Field(ge=1, le=100)]
+SceneName = Literal["shear", "slope_barton_bandis", "slope_constant"]
+EVERY_SCENE: list[SceneName] = ["shear", "slope_barton_bandis", "slope_constant"]
 
 
 class KnobValues(Section):
@@ -77,7 +83,7 @@ class Accurate(Section):
 
 
 class Tradeoff(Section):
-    scenes: list[Literal["shear", "slope_barton_bandis", "slope_constant"]] = Field(min_length=1)
+    scenes: list[SceneName] = Field(min_length=1)
     knobs: KnobValues
     reference: Accurate
     reference_check: Accurate
@@ -88,6 +94,7 @@ class Tradeoff(Section):
 
 class Economies(Section):
     repeats: Repeats
+    scenes: list[SceneName] = Field(default_factory=lambda: list(EVERY_SCENE), min_length=1)
 
 
 class Scaling(Section):
@@ -138,17 +145,25 @@ class SweepCost(Section):
 
 
 class Config(Section):
+    """The paper's scenes and the sections to run (each optional, at least one given)."""
+
     shear_config: InputFile  # the paper's scenes, exactly as bbmc shear and bbmc slope build them
     slope_config: InputFile
-    tradeoff: Tradeoff
-    economy: Economies
-    scaling: Scaling
-    engine_cost: EngineCost
-    fos: FosCost
-    mobilized: MobilizedCost
-    sweep: SweepCost
-    laws: Laws
+    tradeoff: Tradeoff | None = None
+    economy: Economies | None = None
+    scaling: Scaling | None = None
+    engine_cost: EngineCost | None = None
+    fos: FosCost | None = None
+    mobilized: MobilizedCost | None = None
+    sweep: SweepCost | None = None
+    laws: Laws | None = None
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
+
+    @model_validator(mode="after")
+    def _something_to_run(self) -> Config:
+        if all(getattr(self, name) is None for name in SECTIONS):
+            raise ValueError(f"no section to run: give at least one of {', '.join(SECTIONS)}")
+        return self
 
 
 @numba.njit(cache=True)
@@ -221,56 +236,122 @@ def law_table(config: Laws) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def paper_scenes(config: Config) -> list:
-    """The scenes the tradeoff and the economies run, in the config's order."""
-    made = {
-        "shear": lambda: ShearScene(config.shear_config),
-        "slope_barton_bandis": lambda: SlopeScene(config.slope_config, "barton_bandis"),
-        "slope_constant": lambda: SlopeScene(config.slope_config, "constant"),
-    }
-    return [made[name]() for name in config.tradeoff.scenes]
+class PaperScenes:
+    """The paper's scenes by name, each built once and shared by the sections that run it."""
+
+    def __init__(self, config: Config) -> None:
+        self.config, self.made = config, {}
+
+    def __call__(self, names: list[SceneName]) -> list:
+        c = self.config
+        make = {
+            "shear": lambda: ShearScene(c.shear_config),
+            "slope_barton_bandis": lambda: SlopeScene(c.slope_config, "barton_bandis"),
+            "slope_constant": lambda: SlopeScene(c.slope_config, "constant"),
+        }
+        for name in names:
+            if name not in self.made:
+                self.made[name] = make[name]()
+        return [self.made[name] for name in names]
 
 
-def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
-    """The trade, the economies, the scaling study and the laws' throughput."""
+Part = tuple[dict[str, pd.DataFrame], dict[str, Figure]]
+
+
+def tradeoff_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     t = config.tradeoff
-    scenes = paper_scenes(config)
     values = t.knobs.model_dump()
     reference, check = (a.model_dump(exclude_none=True) for a in (t.reference, t.reference_check))
-    parts = [to.scene_tradeoff(s, values, reference, check, t.repeats, progress) for s in scenes]
+    parts = [to.scene_tradeoff(s, values, reference, check, t.repeats, progress) for s in scenes(t.scenes)]
     trade = pd.concat([p[0] for p in parts], ignore_index=True)
-    economies = economy_table(scenes, config.economy.repeats, progress)
+    tables = {
+        "tradeoff": trade,
+        "tradeoff_readings": pd.concat([p[1] for p in parts], ignore_index=True),
+        "recommended": to.recommended(trade, t.target_error),
+    }
+    return tables, {"tradeoff": to.tradeoff_figure(trade, t.figure_error_floor, config.figure_dpi)}
+
+
+def economy_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    e = config.economy
+    return {"economy": economy_table(scenes(e.scenes), e.repeats, progress)}, {}
+
+
+def scaling_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     s = config.scaling
     growth = scaling_table(
         s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 1e9, config.slope_config, progress=progress
     )
+    return {"scaling": growth}, {"scaling": scaling_figure(growth, config.figure_dpi)}
+
+
+def engine_cost_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     e = config.engine_cost
     cost = engine_cost_table(
         e.commit, e.block_counts, e.steps, e.repeats, config.slope_config, config.shear_config, progress
     )
-    fos = fos_cost_table(config.slope_config, config.fos.variants, progress)
+    return {"engine_cost": cost}, {}
+
+
+def fos_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    return {"fos_cost": fos_cost_table(config.slope_config, config.fos.variants, progress)}, {}
+
+
+def mobilized_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     m = config.mobilized
-    mobilized = mobilized_cost_table(
-        m.sub_contacts, m.repeats, m.update_intervals, m.stress_changes, progress
-    )
+    table = mobilized_cost_table(m.sub_contacts, m.repeats, m.update_intervals, m.stress_changes, progress)
+    return {"mobilized_cost": table}, {}
+
+
+def sweep_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     w = config.sweep
-    sweep = sweep_cost_table(w.le_samples, w.dem_samples, w.repeats, config.slope_config, progress)
+    table = sweep_cost_table(w.le_samples, w.dem_samples, w.repeats, config.slope_config, progress)
+    return {"sweep_cost": table}, {}
+
+
+def laws_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     progress("joint laws' throughput")
-    return StageResult(
-        tables={
-            "tradeoff": trade,
-            "tradeoff_readings": pd.concat([p[1] for p in parts], ignore_index=True),
-            "recommended": to.recommended(trade, t.target_error),
-            "economy": economies,
-            "scaling": growth,
-            "engine_cost": cost,
-            "fos_cost": fos,
-            "mobilized_cost": mobilized,
-            "sweep_cost": sweep,
-            "laws": law_table(config.laws),
-        },
-        figures={
-            "tradeoff": to.tradeoff_figure(trade, t.figure_error_floor, config.figure_dpi),
-            "scaling": scaling_figure(growth, config.figure_dpi),
-        },
-    )
+    return {"laws": law_table(config.laws)}, {}
+
+
+PARTS = {
+    "tradeoff": tradeoff_part,
+    "economy": economy_part,
+    "scaling": scaling_part,
+    "engine_cost": engine_cost_part,
+    "fos": fos_part,
+    "mobilized": mobilized_part,
+    "sweep": sweep_part,
+    "laws": laws_part,
+}
+
+
+def selected(config: Config, only: list[str] | None) -> list[str]:
+    """The sections to run, in the config's order: those `only` names (every one must be a section the
+    config gives: `ConfigError` otherwise), or all the config gives."""
+    if only is None:
+        return [name for name in SECTIONS if getattr(config, name) is not None]
+    unknown = [name for name in only if name not in SECTIONS]
+    if unknown:
+        raise ConfigError(f"--only: unknown section '{unknown[0]}'; the sections are {', '.join(SECTIONS)}")
+    missing = [name for name in only if getattr(config, name) is None]
+    if missing:
+        raise ConfigError(f"--only: the config has no section '{missing[0]}'")
+    return [name for name in SECTIONS if name in only]
+
+
+def run(
+    config: Config, progress: Callable[[str], None] = lambda _: None, only: list[str] | None = None
+) -> StageResult:
+    """The sections of the config (or those of `only`), in the order of `SECTIONS`."""
+    sections = selected(config, only)
+    if only is None:
+        for name in SECTIONS:
+            if name not in sections:
+                progress(f"section '{name}' is not in the config: skipped")
+    tables, figures, scenes = {}, {}, PaperScenes(config)
+    for name in sections:
+        part_tables, part_figures = PARTS[name](config, scenes, progress)
+        tables |= part_tables
+        figures |= part_figures
+    return StageResult(tables=tables, figures=figures)

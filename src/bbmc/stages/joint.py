@@ -3,88 +3,44 @@ style of Barton's figures: scale effects, peak and residual envelopes with their
 mobilized tau-delta and dilation curves, and the Bandis closure.
 
 The config gives the joint in the units of its key names; they are converted to SI here, and the
-computing is in `bbmc.joint_curves`, the drawing in `bbmc.joint_figures`.
+computing is in `bbmc.joint.curves`, the drawing in `bbmc.joint.figures`.
 """
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
-
 import numpy as np
 from pydantic import Field, ValidationInfo, field_validator
 
-from bbmc import joint_curves as jc
-from bbmc import joint_figures, laws, units
-from bbmc.config import Section
+from bbmc import units
 from bbmc.io import StageResult
+from bbmc.joint import curves as jc
+from bbmc.joint import figures as joint_figures
+from bbmc.joint.derived import full_joint
+from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
+from bbmc.laws.mobilized import MOBILIZATION_TABLE
 
 NAME = "joint"
 
-Angle = Annotated[float, Field(gt=0, lt=90)]
-Positive = Annotated[float, Field(gt=0)]
 
+class Config(FullJointInputs):
+    """The joint (`bbmc.joint.inputs`, the scene's checks; here also JRC_0 > 0, the field length and the
+    rock's sigma_c required) and what to draw."""
 
-class Config(Section):
-    """The joint (Barton & Choubey 1977; Barton & Bandis 1982; Bandis et al. 1983) and what to draw."""
-
-    jrc0: float = Field(gt=0, le=20)  # JRC_0 at the lab length
-    jcs0_MPa: Positive  # JCS_0
-    phi_b_deg: Angle
-    phi_r_deg: Angle | None = None  # or from rebound_ratio
-    rebound_ratio: Annotated[float, Field(ge=0, le=1)] | None = Field(default=None, validate_default=True)
-    lab_length_m: Positive  # L_0
-    field_length_m: Positive  # L_n
-    sigma_c_MPa: Positive  # for the initial aperture a_j
-    phi_max_deg: Angle = Field(default=70.0, validate_default=True)
-    damage: Literal["barton_1985"] | float  # M of the dilation, or Barton et al. (1985)'s M(sigma_n)
+    jrc0: float = Field(gt=0, le=20)  # a smooth joint has no scale effect or mobilization to draw
+    field_length_m: float = Field(gt=0)  # L_n
+    sigma_c_MPa: float = Field(gt=0)  # for the initial aperture a_j
     normal_stresses_MPa: list[float] = Field(min_length=1, max_length=6)
     envelope_range_MPa: list[float] = Field(min_length=2, max_length=2)
     max_displacement_ratio: float = Field(gt=1, le=1000)  # delta/delta_peak at the curves' end
     figure_dpi: int = Field(ge=50, le=600)
 
-    @field_validator("phi_r_deg")
-    @classmethod
-    def _residual_below_basic(cls, value: float | None, info: ValidationInfo) -> float | None:
-        phi_b = info.data.get("phi_b_deg")
-        if value is not None and phi_b is not None and value > phi_b:
-            raise ValueError(f"must not exceed phi_b_deg ({phi_b}): phi_r is at most the basic angle")
-        return value
-
-    @field_validator("rebound_ratio")
-    @classmethod
-    def _one_residual_source(cls, value: float | None, info: ValidationInfo) -> float | None:
-        given = info.data.get("phi_r_deg") is not None
-        if given == (value is not None):
-            both = "both are given" if given else "neither is given"
-            raise ValueError(f"give exactly one of phi_r_deg and rebound_ratio ({both})")
-        phi_b = info.data.get("phi_b_deg")
-        if value is not None and phi_b is not None and phi_b - 20.0 * (1.0 - value) <= 0.0:
-            raise ValueError(f"gives phi_r = phi_b_deg - 20 (1 - r/R) <= 0 with phi_b_deg {phi_b}")
-        return value
-
     @field_validator("sigma_c_MPa")
     @classmethod
     def _rock_not_weaker_than_wall(cls, value: float, info: ValidationInfo) -> float:
         jcs0 = info.data.get("jcs0_MPa")
-        if jcs0 is not None and value < jcs0:
-            raise ValueError(f"must be >= jcs0_MPa ({jcs0}): a joint wall is not stronger than its rock")
+        if jcs0 is not None:
+            wall_not_stronger_than_rock(value, jcs0)
         return value
-
-    @field_validator("phi_max_deg")
-    @classmethod
-    def _cap_above_basic(cls, value: float, info: ValidationInfo) -> float:
-        phi_b = info.data.get("phi_b_deg")
-        if phi_b is not None and value <= phi_b:
-            raise ValueError(f"must exceed phi_b_deg ({phi_b})")
-        return value
-
-    @field_validator("damage", mode="before")
-    @classmethod
-    def _damage(cls, value: object) -> object:
-        number = isinstance(value, int | float) and not isinstance(value, bool)
-        if value != "barton_1985" and not (number and 0 < value < float("inf")):
-            raise ValueError("must be 'barton_1985' or a number M > 0")
-        return float(value) if number else value
 
     @field_validator("normal_stresses_MPa")
     @classmethod
@@ -107,20 +63,27 @@ class Config(Section):
 
 
 def joint_parameters(config: Config) -> jc.Joint:
-    """The config's joint in SI; phi_r as given or phi_b - 20 deg (1 - r/R) (Barton & Choubey 1977)."""
+    """The config's joint in SI, phi_r and the closure derived once (`bbmc.joint.derived`)."""
     phi_b = config.phi_b_deg * units.deg
-    if config.phi_r_deg is not None:
-        phi_r = config.phi_r_deg * units.deg
-    else:
-        phi_r = float(laws.residual_friction_angle(phi_b, config.rebound_ratio))
+    lab, field = config.lab_length_m * units.m, config.field_length_m * units.m
+    derived = full_joint(
+        config.jrc0,
+        config.jcs0_MPa * units.MPa,
+        lab,
+        field,
+        phi_b=phi_b,
+        phi_r=None if config.phi_r_deg is None else config.phi_r_deg * units.deg,
+        rebound_ratio=config.rebound_ratio,
+        sigma_c=config.sigma_c_MPa * units.MPa,
+    )
     return jc.Joint(
         jrc0=config.jrc0,
         jcs0=config.jcs0_MPa * units.MPa,
         phi_b=phi_b,
-        phi_r=phi_r,
-        lab_length=config.lab_length_m * units.m,
-        field_length=config.field_length_m * units.m,
-        sigma_c=config.sigma_c_MPa * units.MPa,
+        phi_r=derived.phi_r,
+        lab_length=lab,
+        field_length=field,
+        closure=derived.closure,
         phi_max=config.phi_max_deg * units.deg,
         damage=None if config.damage == "barton_1985" else float(config.damage),
     )
@@ -131,11 +94,10 @@ def run(config: Config) -> StageResult:
     joint = joint_parameters(config)
     low, high = (s * units.MPa for s in config.envelope_range_MPa)
     stresses = np.sort(np.asarray(config.normal_stresses_MPa)) * units.MPa
-    closure = jc.closure_parameters(joint)
     scale = jc.scale_table(joint)
     envelopes = jc.envelope_table(joint, jc.envelope_stresses(low, high))
     curves = jc.shear_curves_table(joint, stresses, config.max_displacement_ratio)
-    closing = jc.closure_table(closure, jc.closure_stresses(closure, high))
+    closing = jc.closure_table(joint.closure, jc.closure_stresses(joint.closure, high))
     dpi = config.figure_dpi
     return StageResult(
         tables={
@@ -147,7 +109,7 @@ def run(config: Config) -> StageResult:
         figures={
             "envelopes": joint_figures.envelopes(envelopes, curves, dpi),
             "shear_curves": joint_figures.shear_curves(curves, scale, dpi),
-            "mobilization": joint_figures.mobilization(curves, jc.MOBILIZATION_TABLE, dpi),
+            "mobilization": joint_figures.mobilization(curves, MOBILIZATION_TABLE, dpi),
             "closure": joint_figures.closure(closing, dpi),
         },
     )

@@ -3,7 +3,7 @@ laws (eqs 2-8, 16-18), on a stress grid and at every load of Table 3.
 
 Only the loads (sigma_n, tau) are read from Table 3; every other column is computed. Which printed
 numbers the paper got wrong, and the switches that choose between the paper's and the corrected
-reading, are in `bbmc.joint_model` and docs/paper-audit.md.
+reading, are in `bbmc.joint.model` and docs/paper-audit.md.
 """
 
 from __future__ import annotations
@@ -12,10 +12,10 @@ import numpy as np
 import pandas as pd
 from pydantic import Field, field_validator, model_validator
 
-from bbmc import joint_model as jm
 from bbmc import plots, units
 from bbmc.config import Section
 from bbmc.io import StageResult
+from bbmc.joint import model as jm
 from bbmc.paper_inputs import Coefficients, Errata, Inputs, load_inputs, parameters
 
 NAME = "mc"

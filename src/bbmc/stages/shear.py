@@ -25,10 +25,10 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 
-from bbmc import joint_model as jm
 from bbmc import units
 from bbmc.comparison import TOLERANCES, judge
 from bbmc.io import StageResult
+from bbmc.joint import model as jm
 from bbmc.shear import box
 from bbmc.shear import calibration as cal
 from bbmc.shear.bench import Bench

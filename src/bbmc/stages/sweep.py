@@ -33,14 +33,13 @@ import pandas as pd
 from pydantic import BaseModel
 
 from bbmc import plausibility
-from bbmc.config import ConfigError, load_config, read_yaml, validate
+from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.model import build_model
 from bbmc.dem.monitors import column_name
 from bbmc.dem.scene import Scene
 from bbmc.io import StageResult
 from bbmc.slope import safety
-from bbmc.slope.config import Config as SlopeConfig
-from bbmc.slope.config import load_table4
+from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design, figures, statistics
 from bbmc.sweep.config import Config, Planar, Toppling
 from bbmc.sweep.models import ERROR, FS, PlanarModel, SceneModel, TopplingModel, get_path
@@ -91,8 +90,7 @@ def _scene_tree(config: Config) -> dict:
         tree = read_yaml(base.scene)
         plausibility.warn(tree, str(base.scene))
         return tree
-    slope = load_config(base.slope_config, SlopeConfig)
-    return safety.reduction_scene(slope, load_table4(slope.data), base.joint_model)
+    return safety.reduction_scene(*load_paper_slope(base.slope_config), base.joint_model)
 
 
 def model_of(config: Config, tree: dict | None) -> Model:

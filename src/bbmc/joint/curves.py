@@ -7,7 +7,7 @@ units their column names carry (MPa, mm, deg, kPa, MPa/mm). Two scales are evalu
 JRC_0, JCS_0) and the field (L_n, JRC_n, JCS_n from Barton & Bandis 1982). The closure keeps the lab
 values at both scales: the Bandis fits were made on lab specimens (`bbmc.laws.mobilized`, note (a)).
 
-No plotting here: `bbmc.joint_figures` draws from these tables.
+No plotting here: `bbmc.joint.figures` draws from these tables.
 """
 
 from __future__ import annotations
@@ -18,18 +18,9 @@ import numpy as np
 import pandas as pd
 
 from bbmc import laws, units
+from bbmc.joint.derived import Closure, full_joint
+from bbmc.laws.mobilized import MOBILIZATION_TABLE
 
-# Barton (1982), ONWI-308: delta/delta_peak -> JRC_mob/JRC_peak from 0.3 on (the point at 0 is
-# -phi_r/i and depends on the stress). Typed here as published, to be drawn over the law's curve.
-MOBILIZATION_TABLE: tuple[tuple[float, float], ...] = (
-    (0.3, 0.0),
-    (0.6, 0.75),
-    (1.0, 1.0),
-    (2.0, 0.85),
-    (4.0, 0.70),
-    (10.0, 0.50),
-    (100.0, 0.0),
-)
 LINEAR_POINTS = 401  # delta/delta_peak grid of a shear curve: evenly spaced from 0 ...
 LOG_POINTS = 201  # ... and log-spaced from SMALLEST_RATIO, merged, with every table point added
 SMALLEST_RATIO = 1.0e-3
@@ -48,7 +39,7 @@ class Joint:
     phi_r: float  # residual friction angle [rad]
     lab_length: float  # L_0 [m]
     field_length: float  # L_n [m]
-    sigma_c: float  # the rock's uniaxial compressive strength [Pa], for the initial aperture
+    closure: Closure  # the Bandis closure (lab values, `bbmc.joint.derived`)
     phi_max: float  # cap on the total friction angle [rad]
     damage: float | None  # M [1] of the dilation, or None for M = 0.7 + JRC/(12 lg(JCS/sigma_n))
 
@@ -64,43 +55,16 @@ class Scale:
     peak_displacement: float
 
 
-@dataclass(frozen=True)
-class Closure:
-    """The Bandis closure's parameters (lab values): aperture a_j [m], K_ni [Pa/m], V_m [m]."""
-
-    aperture: float
-    kni: float
-    vm: float
-
-
-def lab_scale(joint: Joint) -> Scale:
-    """The lab specimen: L_0, JRC_0, JCS_0, delta_peak = (L_0/500)(JRC_0/L_0)^0.33 [m]."""
-    return Scale(
-        "lab",
-        joint.lab_length,
-        joint.jrc0,
-        joint.jcs0,
-        float(laws.peak_shear_displacement(joint.lab_length, joint.jrc0)),
-    )
-
-
-def field_scale(joint: Joint) -> Scale:
-    """The field block: L_n, JRC_n = JRC_0 (L_n/L_0)^(-0.02 JRC_0), JCS_n = JCS_0 (L_n/L_0)^(-0.03 JRC_0)
-    [Pa], delta_peak = (L_n/500)(JRC_n/L_n)^0.33 [m] (Barton & Bandis 1982)."""
-    jrc = float(laws.scaled_jrc(joint.jrc0, joint.lab_length, joint.field_length))
-    jcs = float(laws.scaled_jcs(joint.jcs0, joint.jrc0, joint.lab_length, joint.field_length))
-    return Scale(
-        "field",
-        joint.field_length,
-        jrc,
-        jcs,
-        float(laws.peak_shear_displacement(joint.field_length, jrc)),
-    )
+def scale(joint: Joint, name: str, length: float) -> Scale:
+    """The joint at `length` [m] (`bbmc.joint.derived`): JRC, JCS [Pa] and delta_peak [m] scaled from the
+    lab length (Barton & Bandis 1982); at the lab length itself these are JRC_0, JCS_0."""
+    at = full_joint(joint.jrc0, joint.jcs0, joint.lab_length, length)
+    return Scale(name, length, at.jrc, at.jcs, at.peak_displacement)
 
 
 def scales(joint: Joint) -> tuple[Scale, Scale]:
     """The lab and the field scale, in that order."""
-    return lab_scale(joint), field_scale(joint)
+    return scale(joint, "lab", joint.lab_length), scale(joint, "field", joint.field_length)
 
 
 def scale_table(joint: Joint) -> pd.DataFrame:
@@ -227,17 +191,6 @@ def shear_curves_table(joint: Joint, stresses: np.ndarray, max_ratio: float) -> 
     ratios = displacement_ratios(max_ratio)
     frames = [shear_curve(joint, s, float(sigma), ratios) for s in scales(joint) for sigma in stresses]
     return pd.concat(frames, ignore_index=True)
-
-
-def closure_parameters(joint: Joint) -> Closure:
-    """a_j = (JRC_0/5)(0.2 sigma_c/JCS_0 - 0.1) [m], then K_ni [Pa/m] and V_m [m] of Bandis et al.
-    (1983) from JRC_0, JCS_0, a_j (lab values at every scale)."""
-    aperture = float(laws.initial_aperture(joint.jrc0, joint.jcs0, joint.sigma_c))
-    return Closure(
-        aperture,
-        float(laws.bandis_initial_normal_stiffness(joint.jrc0, joint.jcs0, aperture)),
-        float(laws.bandis_maximum_closure(joint.jrc0, joint.jcs0, aperture)),
-    )
 
 
 def closure_stresses(closure: Closure, high: float, points: int = CLOSURE_POINTS) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""The figures of `bbmc joint`, in the style of Barton's, drawn from its tables only (`bbmc.joint_curves`).
+"""The figures of `bbmc joint`, in the style of Barton's, drawn from its tables only (`bbmc.joint.curves`).
 
 Axes carry units; lab scale is drawn solid and field scale dashed, one colour per normal stress.
 """

@@ -1,0 +1,80 @@
+"""Table 4's constant joint parameters and rock mass strength against the laws, and Table 2's JCS."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import optimize
+
+from bbmc import laws, units
+from bbmc.audit.log import AuditInputs, AuditLog
+from bbmc.audit.strength import table4_strength
+from bbmc.joint import model as jm
+
+
+def table4_checks(log: AuditLog, ctx: AuditInputs) -> None:
+    """Table 4's constant joint parameters and rock mass strength, and Table 2's JCS."""
+    p = ctx.stiffness
+    constant = ctx.table4_constant.iloc[0]
+    t4 = ctx.table4_nonlinear.iloc[0]
+    table4_set = table4_strength(ctx)
+    k_n = float(constant["K_n_MPa_per_mm"])
+    sigma_for_kn = k_n * units.MPa_per_mm * p.log10_e / p.q
+    k_s_there = laws.simplified_shear_stiffness(sigma_for_kn, p.eq18_k_j, p.eq18_n_j, jm.SIGMA_REF, 1.0)
+    log.check(
+        "Table 4",
+        "constant model",
+        "K_s [MPa/mm] at the sigma_n where eq 8 gives K_n = 10.7",
+        "table4_stiffness",
+        float(constant["K_s_MPa_per_mm"]),
+        float(k_s_there) / units.MPa_per_mm,
+        f"Eq 8 gives K_n = 10.7 MPa/mm at sigma_n = {sigma_for_kn / units.MPa:.3f} MPa, where eq 18 gives "
+        "K_s far lower: no normal stress makes both laws give 10.7. The constants are not derived.",
+    )
+    c_target = float(constant["c_kPa"]) * units.kPa
+    root = optimize.brentq(
+        lambda s: jm.strength_state(np.array([s]), table4_set)["c"][0] - c_target, 1e3, table4_set.jcs * 0.999
+    )
+    phi_there = jm.strength_state(np.array([root]), table4_set)["phi"][0] / units.deg
+    grid = np.geomspace(1e-3, 100.0, 2000) * units.MPa
+    phi_range = jm.strength_state(grid, table4_set)["phi"] / units.deg
+    log.check(
+        "Table 4",
+        "constant model",
+        "phi [deg] paired with c = 5.4 kPa by eq 15",
+        "table4_angle",
+        float(constant["phi_deg"]),
+        float(phi_there),
+        f"Eq 15 with Table 4's set gives c = 5.4 kPa at sigma_n = {root / units.MPa:.3f} MPa, where phi = "
+        f"{phi_there:.2f} deg; over 0.001-100 MPa its phi stays within {phi_range.min():.1f}-"
+        f"{phi_range.max():.1f} deg, so 14.51 deg cannot come from it.",
+    )
+    rock2, rock4 = ctx.table2.iloc[0], ctx.table4_rock.iloc[0]
+    log.check(
+        "Table 4",
+        "limestone",
+        "cohesion [MPa]",
+        "strength_MPa_2dp",
+        float(rock4["cohesion_MPa"]),
+        float(rock2["cohesion_MPa"]),
+        "Table 4 prints 4.12e3 under MPa where Table 2 has 4.12 MPa for the same limestone: a factor "
+        "1000 (kPa written as MPa).",
+    )
+    log.check(
+        "Table 4",
+        "B-B set",
+        "JCS [MPa] = sigma_c / 4",
+        "strength_MPa_2dp",
+        float(t4["JCS_MPa"]),
+        float(rock2["compressive_strength_MPa"]) / 4.0,
+        "Section 3 takes JCS as a quarter of sigma_c = 13.24 MPa; Table 4's 3.87 is not, and phi_b "
+        "(33.4 vs 32) and JRC (2.04 vs 2.13) change from section 3 without a word.",
+    )
+    log.check(
+        "Table 2",
+        "limestone",
+        "JCS [MPa] = sigma_c / 4",
+        "strength_MPa_2dp",
+        ctx.strength.jcs / units.MPa,
+        float(rock2["compressive_strength_MPa"]) / 4.0,
+        "Section 3's JCS = 13.24 / 4.",
+    )
