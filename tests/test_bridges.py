@@ -12,6 +12,7 @@ import copy
 import math
 from pathlib import Path
 
+import pandas as pd
 import pytest
 import yaml
 from click.testing import CliRunner
@@ -172,3 +173,28 @@ def test_bad_bridges_are_refused_in_one_line(tmp_path, change, key, message):
     lines = [line for line in outcome.output.strip().splitlines() if ": warning: " not in line]
     assert len(lines) == 1 and key in lines[0] and message in lines[0], outcome.output
     assert not Path(tmp_path / "out").exists()
+
+
+def test_a_run_reports_its_bridges(tmp_path):
+    """bbmc run on a scene with a bridge writes bridges.csv (where each bridge is, how many shares broke
+    and how, by which record step) and bridges.png; a bridge that stays intact reads -1."""
+    weak = BRIDGE | {"cohesion_MPa": 0.001, "tensile_strength_MPa": 0.001}
+    weight = 2500 * 9.81 * 2.0
+    scene = _flat_bridge(weak, push_kN=1.2 * (2e3 + weight * math.tan(math.radians(50))) / 1e3)
+    path = tmp_path / "bridge.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(tmp_path / "out"), "--vtk"])
+    assert outcome.exit_code == 0, outcome.output
+    folder = tmp_path / "out" / "run" / "flat_bridge"
+    bridges = pd.read_csv(folder / "bridges.csv")
+    assert len(bridges) == 1
+    row = bridges.iloc[0]
+    assert row["law"] == "bridge" and row["shares_broken"] == row["shares"] == 4
+    assert row["in_shear"] == 4 and row["in_tension"] == 0
+    assert 0 < row["first_broken_by_step"] <= row["broken_through_by_step"]
+    assert (folder / "bridges.png").is_file()
+    intact = _flat_bridge(BRIDGE)
+    path.write_text(yaml.safe_dump(intact))
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(tmp_path / "intact")])
+    row = pd.read_csv(tmp_path / "intact" / "run" / "flat_bridge" / "bridges.csv").iloc[0]
+    assert row["shares_broken"] == 0 and row["first_broken_by_step"] == -1

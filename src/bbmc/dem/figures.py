@@ -209,3 +209,37 @@ def bracketing_figure(result: StrengthReductionResult, dpi: int) -> Figure:
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize="small")
     return fig
+
+
+def bridges_figure(model: Model, final: np.ndarray, bridges: pd.DataFrame, dpi: int) -> Figure:
+    """The blocks at the end of the run and each rock bridge (a contact whose law breaks into a joint)
+    at its middle: intact, broken in part, or broken through, with how it broke (`bridges.csv`)."""
+    fig = Figure(figsize=(8, 6), dpi=dpi, layout="constrained")
+    ax = fig.subplots()
+    ax.add_collection(
+        PolyCollection(_outlines(model, final), facecolors="none", edgecolors="0.5", linewidths=0.5)
+    )
+    intact = bridges["shares_broken"] == 0
+    through = bridges["broken_through_by_step"] >= 0
+    part = ~intact & ~through
+    tension = bridges["in_tension"] > bridges["in_shear"]
+    styles = [
+        (intact, "o", "0.3", "intact"),
+        (part, "o", "tab:orange", "broken in part"),
+        (through & ~tension, "x", "tab:red", "broken through, in shear"),
+        (through & tension, "+", "tab:purple", "broken through, in tension"),
+    ]
+    for mask, marker, colour, label in styles:
+        ax.plot(
+            bridges["x_m"][mask],
+            bridges["y_m"][mask],
+            marker,
+            color=colour,
+            ms=6,
+            ls="none",
+            label=f"{label} ({int(mask.sum())})",
+        )
+    _frame(ax, model, final)
+    ax.set_title(f"{model.scene.name or 'scene'}: rock bridges at the end of the run")
+    fig.legend(loc="outside lower center", ncols=2, fontsize="small")
+    return fig

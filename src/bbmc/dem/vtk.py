@@ -10,7 +10,8 @@ flags have none.
   Cell data (per block): displacement_m and velocity_m_s of the centroid, rotation_deg, group_id (its
   index in the scene's sorted group names), and the names themselves as text arrays: block and group.
 * contacts_<k>.vtu: every active sub-contact a vertex at its position, with point data sigma_n_MPa,
-  tau_MPa, slipped (0 or 1), law_id (the joint law's index) and law (its name).
+  tau_MPa, slipped (0 or 1), failure (0 intact, 1 slipped in shear, 2 failed in tension: a rock bridge
+  that broke, a bond that opened), law_id (the joint law's index) and law (its name).
 * Both carry field data group_names and law_names: every name, in the order of the ids.
 * blocks.pvd, contacts.pvd: the collections; open either in ParaView and play the series.
 
@@ -96,6 +97,7 @@ def contact_mesh(
             "sigma_n_MPa": subs[active, L.SN] / units.MPa,
             "tau_MPa": subs[active, L.TAU] / units.MPa,
             "slipped": (subs[active, L.SLIPPED] > 0).astype(np.int64),
+            "failure": subs[active, L.SLIPPED].astype(np.int64),
             "law_id": law,
         },
     )

@@ -3,7 +3,8 @@
 Writes into <results>/run/<scene name>/: history.csv (the monitors at every record step),
 blocks.csv (final state of every block), contacts.csv (final state of every sub-contact),
 summary.csv (steps, time, time-step range, contact searches, interpenetration, warnings),
-scene.png, history.png and provenance.json; with --vtk, vtk/ (blocks and sub-contacts of every record
+scene.png, history.png and provenance.json; for a scene with rock bridges, bridges.csv and bridges.png
+(`bbmc.dem.bridges`); with --vtk, vtk/ (blocks and sub-contacts of every record
 as VTU files and their PVD collections, for ParaView).
 """
 
@@ -14,10 +15,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from bbmc.dem.figures import history_figure, scene_figure
+from bbmc.dem.bridges import BridgeLog, has_bridges
+from bbmc.dem.figures import bridges_figure, history_figure, scene_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
-from bbmc.dem.solver import RunResult, initial_state, simulate
+from bbmc.dem.solver import RunResult, State, initial_state, simulate
 from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
 
@@ -38,7 +40,14 @@ def run(
     model: Model = build_model(scene, config_path)
     initial = initial_state(model).world.copy()
     series = Series(model) if vtk else None
-    result = simulate(model, progress, series)
+    log = BridgeLog(model) if has_bridges(model) else None
+    observers = [o for o in (series, log) if o is not None]
+
+    def on_record(state: State) -> None:
+        for observe in observers:
+            observe(state)
+
+    result = simulate(model, progress, on_record if observers else None)
     warnings = pd.DataFrame({"warning": result.warnings}, dtype=object)
     tables = {
         "history": result.history,
@@ -51,5 +60,8 @@ def run(
         "scene": scene_figure(model, initial, result.state.world, result.state.dof, scene.figure_dpi),
         "history": history_figure(result.history, scene.figure_dpi),
     }
+    if log is not None:
+        tables["bridges"] = log.table()
+        figures["bridges"] = bridges_figure(model, result.state.world, tables["bridges"], scene.figure_dpi)
     files = series.collections() if series else {}
     return StageResult(tables=tables, figures=figures, files=files), result
