@@ -137,6 +137,86 @@ def jennings_factor_of_safety(persistence: float) -> float:
     return strength * width / (weight * math.sin(dip))
 
 
+STEP_PATH = (5.0, 0.3, 0.4, 1.25)  # tread length, step height, slider thickness, bridge length [m]
+GLUE = {**MOHR_COULOMB, "cohesion_MPa": 100.0, "tensile_strength_MPa": 100.0}
+
+
+def step_path(brittle: bool) -> dict:
+    """A step path through two sets: a slider of two blocks glued together (a fictitious joint far
+    stronger than the rock) on two treads of set 1 (dip 30 deg), joined by a riser of set 2 (dip 60 deg,
+    a joint without tension). Each tread is joint except a rock bridge of length b next to the riser,
+    the two bridges symmetric about the middle of the treads' span (so a rigid slider loads them with
+    the mean normal stress); moving down the treads, the slider pulls away from the riser, which opens.
+    Downslope is -x before the turn: the lower tread lies left of the riser."""
+    tread, step, thick, bridge_length = STEP_PATH
+    turn = {"rotate_deg": DIP_DEG, "rotate_about_m": [0.0, 0.0]}
+    held = {"material": "rock", "fix": ["x", "y", "rotation"]} | turn
+
+    def piece(name: str, group: str, x: float, width: float, top: float) -> dict:
+        return held | {
+            "name": name,
+            "group": group,
+            "rectangle_m": {"x_m": x, "y_m": -1.0, "width_m": width, "height_m": 1.0 + top},
+        }
+
+    blocks = [
+        piece("lower_joint", "joint", -tread, tread - bridge_length, 0.0),
+        piece("lower_bridge", "bridge", -bridge_length, bridge_length, 0.0),
+        piece("upper_bridge", "bridge", 0.0, bridge_length, step),
+        piece("upper_joint", "joint", bridge_length, tread - bridge_length, step),
+        {
+            "name": "slider_lower",
+            "material": "rock",
+            "rectangle_m": {"x_m": -tread, "y_m": 0.0, "width_m": tread, "height_m": step + thick},
+        }
+        | turn,
+        {
+            "name": "slider_upper",
+            "material": "rock",
+            "rectangle_m": {"x_m": 0.0, "y_m": step, "width_m": tread, "height_m": thick},
+        }
+        | turn,
+    ]
+    bridge = JENNINGS_BRIDGE | ({"breaks_into": "joint"} if brittle else {})
+    treads = [0.0, 45.0]  # set 1, turned to 30 deg; the riser (set 2) dips 60 deg
+    return {
+        "name": "step_path" + ("_brittle" if brittle else ""),
+        "materials": {"rock": {"density_kg_m3": DENSITY}},
+        "blocks": blocks,
+        "joint_laws": {"joint": JENNINGS_JOINT, "bridge": bridge, "glue": GLUE},
+        "contacts": {
+            "default_law": "joint",
+            "rules": [
+                {"law": "glue", "groups": ["slider_lower", "slider_upper"]},
+                {"law": "bridge", "groups": ["slider_lower", "bridge"], "dip_deg": treads},
+                {"law": "bridge", "groups": ["slider_upper", "bridge"], "dip_deg": treads},
+            ],
+        },
+        "solver": BLOCK_SOLVER,
+    }
+
+
+def step_path_factor_of_safety() -> float:
+    """Limit equilibrium of `step_path`: the slider translates down the treads as one rigid body; the
+    riser opens and carries nothing; the treads carry the slider's weight W cos psi at a uniform mean
+    normal stress (the bridges, symmetric about the treads' middle, see the mean of a linear stress);
+    every part is at its strength together (ductile bridges): FS = sum over the treads' joint and bridge
+    parts of (c L + N tan phi) / (W sin psi) [1]."""
+    tread, step, thick, bridge_length = STEP_PATH
+    dip = math.radians(DIP_DEG)
+    weight = DENSITY * G * (tread * (step + thick) + tread * thick)
+    sigma = weight * math.cos(dip) / (2.0 * tread)
+
+    def resistance(law: dict, length: float) -> float:
+        return length * (
+            law.get("cohesion_MPa", 0.0) * 1e6 + sigma * math.tan(math.radians(law["friction_deg"]))
+        )
+
+    bridges = 2.0 * bridge_length
+    total = resistance(JENNINGS_JOINT, 2.0 * tread - bridges) + resistance(JENNINGS_BRIDGE, bridges)
+    return total / (weight * math.sin(dip))
+
+
 def _flat_block_stresses() -> tuple[float, float]:
     """sigma_n and tau under the flat block [Pa]."""
     weight = DENSITY * G * FLAT_BLOCK[1]
