@@ -8,11 +8,11 @@ Three steps, on plain Python floats (the polygons are small; numpy's per-call co
    joint: intact rock) is made, straight down where that leaves both corners convex, else along the
    vertex's inner bisector. Forced rays (the tension crack) are made first.
 2. `cut_by_sets`: every line of every set cuts every part it crosses, set after set. A piece is tested
-   only against the lines whose reach across the body overlaps its own (lines sorted by reach, pieces
-   behind the current line retired), so the work grows with the number of blocks made, not with
-   blocks x lines. A cut that would leave a piece smaller than `smallest_area` is not made in that
-   piece: the piece stays whole there (as if the sliver were merged back into it) and the segment is
-   reported as skipped.
+   only against the lines that can pass through it (lines sorted by position, pieces behind the
+   current line set aside), so the work grows with the number of blocks made, not with blocks x
+   lines. A cut that would leave a piece smaller than `smallest_area` is not made in that piece: the
+   piece stays whole there (as if the sliver were merged back into it) and the segment is reported
+   as skipped.
 3. `labelled`: each edge takes the label of its line at each point (`Line.label`), and is split where
    the label changes (a trace's end): such split vertices lie on a straight edge and are listed.
 """
@@ -178,28 +178,31 @@ def convex_parts(
     return convex
 
 
-def chord(piece: Piece, line: Line) -> tuple[float, float] | None:
-    """The interval of positions t along `line` inside a convex piece, or None if it misses it."""
+def chord(piece: Piece, line: Line, tolerance: float) -> tuple[float, float] | None:
+    """The interval of positions t along `line` inside a convex piece or on its boundary (a line along
+    one of its edges has that edge), or None if it misses it or only touches a corner."""
     points = piece[0]
     nx, ny = line.normal
     c = line.offset
     d = [nx * x + ny * y - c for x, y in points]
-    if max(d) <= 0 or min(d) >= 0:
+    if max(d) < -tolerance or min(d) > tolerance:
         return None
-    ts = []
+    ts = [
+        line.position(point) for point, distance in zip(points, d, strict=True) if abs(distance) <= tolerance
+    ]
     n = len(points)
     for k in range(n):
         j = (k + 1) % n
-        if (d[k] <= 0) != (d[j] <= 0):
+        if min(d[k], d[j]) < -tolerance and max(d[k], d[j]) > tolerance:
             f = d[k] / (d[k] - d[j])
             (ax, ay), (bx, by) = points[k], points[j]
             ts.append(line.position((ax + f * (bx - ax), ay + f * (by - ay))))
-    return min(ts), max(ts)
+    return (min(ts), max(ts)) if ts and max(ts) - min(ts) > tolerance else None
 
 
 def body_intervals(parts: list[Piece], line: Line, tolerance: float) -> list[tuple[float, float]]:
     """The intervals of positions along `line` inside the body (the union of its convex parts)."""
-    chords = sorted(filter(None, (chord(part, line) for part in parts)))
+    chords = sorted(filter(None, (chord(part, line, tolerance) for part in parts)))
     merged: list[list[float]] = []
     for low, high in chords:
         if merged and low <= merged[-1][1] + tolerance:
@@ -248,11 +251,6 @@ def _split(
     return halves[0], halves[1], ends[0], ends[-1]
 
 
-def _reach(points: list[Point], normal: Point) -> tuple[float, float]:
-    projections = [normal[0] * x + normal[1] * y for x, y in points]
-    return min(projections), max(projections)
-
-
 @dataclass(frozen=True)
 class SetLines:
     """The lines of one set (indices into the line list) and the mean normal that orders them."""
@@ -261,55 +259,77 @@ class SetLines:
     normal: Point
 
 
+class _Frame:
+    """Coordinates along a set's mean normal (q) and mean direction (s) from a point `origin`. A line
+    of the set is q = position + slope s; a piece spans [q_low, q_high] x [s_low, s_high]."""
+
+    def __init__(self, normal: Point, origin: Point) -> None:
+        self.normal, self.direction, self.origin = normal, (normal[1], -normal[0]), origin
+
+    def box(self, points: list[Point]) -> tuple[float, float, float, float]:
+        (nx, ny), (dx, dy), (ox, oy) = self.normal, self.direction, self.origin
+        q = [nx * (x - ox) + ny * (y - oy) for x, y in points]
+        s = [dx * (x - ox) + dy * (y - oy) for x, y in points]
+        return min(q), max(q), min(s), max(s)
+
+    def key(self, line: Line) -> tuple[float, float]:
+        """The line's position (its q at s = 0) and slope dq/ds (steep lines are kept finite)."""
+        along = self.direction[0] * line.direction[0] + self.direction[1] * line.direction[1]
+        across = self.normal[0] * line.direction[0] + self.normal[1] * line.direction[1]
+        slope = across / math.copysign(max(abs(along), 1e-6), along)
+        q_low, _, s_low, _ = self.box([line.anchor])
+        return q_low - slope * s_low, slope
+
+
 def cut_by_sets(
     parts: list[Piece], lines: list[Line], sets: list[SetLines], smallest_area: float, tolerance: float
 ) -> tuple[list[Piece], list[tuple[int, Point, Point]]]:
     """The convex parts cut by every set's lines (see the module's docstring); also the segments not
-    cut (line index, end points) because a piece smaller than `smallest_area` [m^2] would be left."""
+    cut (line index, end points) because a piece smaller than `smallest_area` [m^2] would be left.
+
+    A line q = p + m s meets a piece only if p + m s falls in the piece's q range somewhere in its s
+    range: with |m| <= M (the set's steepest line) and |s| <= S, only lines with p within M S of the
+    piece's q range are looked at (by bisection on the sorted positions), and a piece is set aside
+    once the lines' positions have passed it by more than M S."""
     pieces, skipped = parts, []
+    vertices = [point for part in parts for point in part[0]]
+    origin = (sum(x for x, _ in vertices) / len(vertices), sum(y for _, y in vertices) / len(vertices))
     for group in sets:
-        normal = group.normal
-        reach = {}
-        for index in group.lines:
-            ends = [
-                (lines[index].anchor[0] + t * lines[index].direction[0],
-                 lines[index].anchor[1] + t * lines[index].direction[1])
-                for interval in body_intervals(parts, lines[index], tolerance) for t in interval
-            ]  # fmt: skip
-            if ends:
-                reach[index] = _reach(ends, normal)
-        order = sorted(reach, key=lambda index: reach[index][0])
-        lows = [reach[index][0] for index in order]
-        width = max((reach[index][1] - reach[index][0] for index in order), default=0.0)
+        frame = _Frame(group.normal, origin)
+        keyed = sorted(
+            (*frame.key(lines[index]), index)
+            for index in group.lines
+            if body_intervals(parts, lines[index], tolerance)
+        )
+        positions = [position for position, _, _ in keyed]
+        steepest = max((abs(slope) for _, slope, _ in keyed), default=0.0)
         cut = []
         for piece in pieces:
-            low, high = _reach(piece[0], normal)
-            first, last = bisect_left(lows, low - width - tolerance), bisect_right(lows, high + tolerance)
-            active, done = [(piece, low, high)], []
-            for index in order[first:last]:
-                line_low, line_high = reach[index]
-                if line_high < low - tolerance:
-                    continue
+            q_low, q_high, s_low, s_high = frame.box(piece[0])
+            span = steepest * max(abs(s_low), abs(s_high)) + tolerance
+            first, last = bisect_left(positions, q_low - span), bisect_right(positions, q_high + span)
+            active, done = [(piece, q_low, q_high, s_low, s_high)], []
+            for position, slope, index in keyed[first:last]:
                 still = []
-                for current, current_low, current_high in active:
-                    if current_high < line_low - tolerance:
-                        done.append(current)
+                for current in active:
+                    _, low, high, left, right = current
+                    if high < position - steepest * max(abs(left), abs(right)) - tolerance:
+                        done.append(current[0])  # no later line reaches it
                         continue
-                    halves = (
-                        None
-                        if current_low > line_high + tolerance
-                        else _split(current, lines[index], index, tolerance)
-                    )
+                    ends = (position + slope * left, position + slope * right)
+                    halves = None
+                    if min(ends) <= high + tolerance and max(ends) >= low - tolerance:
+                        halves = _split(current[0], lines[index], index, tolerance)
                     if halves is None:
-                        still.append((current, current_low, current_high))
+                        still.append(current)
                     elif min(area(halves[0][0]), area(halves[1][0])) < smallest_area:
                         skipped.append((index, halves[2], halves[3]))
-                        still.append((current, current_low, current_high))
+                        still.append(current)
                     else:
-                        still.extend((half, *_reach(half[0], normal)) for half in halves[:2])
+                        still.extend((half, *frame.box(half[0])) for half in halves[:2])
                 active = still
             cut.extend(done)
-            cut.extend(current for current, _, _ in active)
+            cut.extend(current[0] for current in active)
         pieces = cut
     return pieces, skipped
 
