@@ -6,17 +6,22 @@ from __future__ import annotations
 
 import copy
 import math
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 import yaml
+from matplotlib.collections import LineCollection
 from scipy import stats
 
+from bbmc.bench.rockmass_cost import rockmass_cost
 from bbmc.config import ConfigError
 from bbmc.dem.polygons import convexity_fault, polygon_area
 from bbmc.rockmass import RockMassConfig, cut, from_file, generate, profile
 from bbmc.rockmass.distributions import length
+from bbmc.rockmass.figure import rock_mass_figure
+from test_figures import texts_outside
 
 ALPHA = 0.001  # KS significance: a test fails when its p-value is below this
 REALIZATIONS = 100
@@ -459,3 +464,36 @@ def test_bad_input_is_one_line_naming_the_key(tmp_path, changes, message):
     text = str(error.value)
     assert text.startswith(f"{path}: ") and "\n" not in text
     assert message in text
+
+
+def test_the_bench_function_reports_blocks_and_seconds():
+    cost = rockmass_cost(repeats=1, spacing_scale=4.0)
+    assert set(cost) == {"blocks", "lines", "traces", "skipped_cuts", "seconds", "blocks_per_s"}
+    assert cost["blocks"] > 100 and cost["seconds"] > 0
+
+
+# --- the figure --------------------------------------------------------------------------------------
+
+
+def test_the_figure_draws_joints_solid_bridges_dashed_cuts_dotted_inside_its_canvas(tmp_path):
+    figure = rock_mass_figure(generate(_config()))
+    collections = {c.get_label(): c for c in figure.axes[0].collections if isinstance(c, LineCollection)}
+    assert set(collections) == {
+        "boundary", "cut (intact rock)", "tension crack", "bedding joints", "bedding bridges", "cross joints",
+        "cross bridges", "steep joints",
+    }  # fmt: skip
+    dashes = {label: c.get_linestyle()[0][1] for label, c in collections.items()}
+    assert dashes["bedding joints"] is None and dashes["bedding bridges"] is not None
+    assert dashes["cut (intact rock)"] is not None
+    assert not texts_outside(figure)
+    figure.savefig(tmp_path / "mass.png")
+    assert (tmp_path / "mass.png").stat().st_size > 10_000
+
+
+def test_the_docs_example_is_the_tested_rock_mass_and_generates(tmp_path):
+    text = (Path(__file__).resolve().parents[1] / "docs" / "rock-mass.md").read_text(encoding="utf-8")
+    example = text.split("```yaml\n", 1)[1].split("```", 1)[0]
+    path = tmp_path / "mass.yaml"
+    path.write_text(example)
+    assert RockMassConfig.model_validate(yaml.safe_load(example)) == _config()
+    assert len(from_file(path).polygons) > 100
