@@ -449,6 +449,21 @@ def _set(changes: dict) -> dict:
         ),
         (_set({"spacing_m": 500, "offset_m": 100}), "key 'joint_sets': the sets make no block"),
         (
+            {"profile": {**OVERHANG, "polyline_m": [[0, 0], [-5, 5], [-10, 10]], "crest_extent_m": 0}},
+            "key 'profile': the ground surface runs beyond the model's sides",
+        ),
+        (
+            {
+                "profile": {
+                    **OVERHANG,
+                    "polyline_m": [[0, 0], [0, 10]],
+                    "toe_extent_m": 0,
+                    "crest_extent_m": 0,
+                }
+            },
+            "key 'profile': the profile encloses no rock",
+        ),
+        (
             {"profile": {**OVERHANG, "tension_crack": {"distance_behind_crest_m": 20, "depth_m": 3}}},
             "tension_crack.distance_behind_crest_m",
         ),

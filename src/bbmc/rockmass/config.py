@@ -169,7 +169,17 @@ class Profile(Section):
             raise ValueError(
                 f"polyline_m: the ground surface crosses itself at ({x:.4g}, {y:.4g}) (segments {i}, {j})"
             )
+        left, right = surface[0, 0] - self.toe_extent_m, surface[-1, 0] + self.crest_extent_m
+        if surface[:, 0].min() < left or surface[:, 0].max() > right:
+            raise ValueError(
+                f"the ground surface runs beyond the model's sides (x = {left:g} and {right:g}): the crest "
+                "must be on the right of the toe, and no point of the surface beyond either"
+            )
         outline = profile.body_outline(surface, self.toe_extent_m, self.crest_extent_m, self.depth_m)
+        if len(outline) < 3:
+            raise ValueError(
+                "the profile encloses no rock (a vertical face with no ground in front or behind)"
+            )
         crossing = profile.first_crossing(outline, closed=True)
         if crossing is not None:
             x, y = crossing[2]
