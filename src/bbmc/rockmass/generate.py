@@ -22,9 +22,9 @@ import pandas as pd
 
 from bbmc.config import ConfigError, load_config
 from bbmc.rockmass import cut, profile
-from bbmc.rockmass.config import CRACK, RockMassConfig
+from bbmc.rockmass.config import CRACK, JointSet, RockMassConfig
 from bbmc.rockmass.sets import SectionTraces
-from bbmc.rockmass.traces import lay_traces, set_lines
+from bbmc.rockmass.traces import SetGeometry, lay_traces, set_lines
 
 TOLERANCE = 1e-9  # of the body's size: a vertex this close to a line lies on it
 SHORTEST_EDGE = 1e-6  # of the body's size: no edge is split closer than this to its ends
@@ -68,7 +68,7 @@ class RockMass:
     traces: pd.DataFrame  # set, line, x0_m, y0_m, x1_m, y1_m, length_m, censored
     lines: pd.DataFrame  # set, line, apparent_dip_deg, position_m, length_m (inside the body)
     sets: dict[str, SetSample]
-    skipped: pd.DataFrame  # label, x0_m, y0_m, x1_m, y1_m: line segments not cut (see the module)
+    skipped: pd.DataFrame  # set, line, x0_m, y0_m, x1_m, y1_m: segments of lines not cut (see the module)
     outline: np.ndarray  # the body, counter-clockwise
     seed: int
 
@@ -103,6 +103,37 @@ def _trace_rows(name: str, index: int, line: cut.Line, laid, intervals, toleranc
                 rows.append({"set": name, "line": index, "x0_m": x0, "y0_m": y0, "x1_m": x1, "y1_m": y1,
                              "length_m": b - a, "censored": bool(censored)})  # fmt: skip
     return rows
+
+
+def _lay(
+    joint_set: JointSet,
+    geometry: SetGeometry,
+    group: cut.SetLines,
+    lines: list[cut.Line],
+    parts: list[cut.Piece],
+    rng: np.random.Generator,
+    tolerance: float,
+    trace_rows: list[dict],
+    line_rows: list[dict],
+) -> SetSample:
+    """Traces and gaps along each of the set's lines that crosses the body (given to the line, for its
+    labels); their rows added to `trace_rows` and `line_rows`; what the set drew."""
+    laid = []
+    for number, index in enumerate(group.lines):
+        line = lines[index]
+        intervals = cut.body_intervals(parts, line, tolerance)
+        if not intervals:
+            continue
+        traces = lay_traces(joint_set, intervals[0][0], intervals[-1][1], rng)
+        laid.append(traces)
+        if not joint_set.persistent:
+            line.breaks, line.starts_off = list(traces.traces.ravel()), True
+        trace_rows += _trace_rows(joint_set.name, index, line, traces, intervals, tolerance)
+        line_rows.append({"set": joint_set.name, "line": index,
+                          "apparent_dip_deg": float(geometry.traces.apparent_dip_deg[number]),
+                          "position_m": float(geometry.positions_m[number]),
+                          "length_m": sum(high - low for low, high in intervals)})  # fmt: skip
+    return _sample(geometry.traces, geometry.mean, geometry.spacings_m, laid)
 
 
 def _held(polygons: list[np.ndarray], outline: np.ndarray, sides: list[str], tolerance: float) -> list[bool]:
@@ -144,22 +175,9 @@ def generate(config: RockMassConfig, seed: int | None = None) -> RockMass:
     parts = cut.convex_parts(outline, lines, forced, tolerance)
     samples, trace_rows, line_rows = {}, [], []
     for joint_set, geometry, group, rng in zip(config.joint_sets, geometries, groups, streams, strict=True):
-        laid = []
-        for number, index in enumerate(group.lines):
-            line = lines[index]
-            intervals = cut.body_intervals(parts, line, tolerance)
-            if not intervals:
-                continue
-            traces = lay_traces(joint_set, intervals[0][0], intervals[-1][1], rng)
-            laid.append(traces)
-            if not joint_set.persistent:
-                line.breaks, line.starts_off = list(traces.traces.ravel()), True
-            trace_rows += _trace_rows(joint_set.name, index, line, traces, intervals, tolerance)
-            line_rows.append({"set": joint_set.name, "line": index,
-                              "apparent_dip_deg": float(geometry.traces.apparent_dip_deg[number]),
-                              "position_m": float(geometry.positions_m[number]),
-                              "length_m": sum(high - low for low, high in intervals)})  # fmt: skip
-        samples[joint_set.name] = _sample(geometry.traces, geometry.mean, geometry.spacings_m, laid)
+        samples[joint_set.name] = _lay(
+            joint_set, geometry, group, lines, parts, rng, tolerance, trace_rows, line_rows
+        )
     if not line_rows:
         raise GeometryError("joint_sets", "the sets make no block: none of their lines crosses the body "
                             "(spacings larger than the body, or an offset beyond it)")  # fmt: skip
@@ -173,8 +191,8 @@ def generate(config: RockMassConfig, seed: int | None = None) -> RockMass:
     if len(pieces) == len(parts):
         raise GeometryError("joint_sets", "the sets make no block: no line of theirs cuts the body")
     polygons, labels, splits = cut.labelled(pieces, lines, SHORTEST_EDGE * size)
-    skipped_rows = [{"label": lines[i].on_label, "x0_m": a[0], "y0_m": a[1], "x1_m": b[0], "y1_m": b[1]}
-                    for i, a, b in skipped]  # fmt: skip
+    skipped_rows = [{"set": lines[i].on_label.split(".", 1)[1], "line": i, "x0_m": a[0], "y0_m": a[1],
+                     "x1_m": b[0], "y1_m": b[1]} for i, a, b in skipped]  # fmt: skip
     trace_columns = ["set", "line", "x0_m", "y0_m", "x1_m", "y1_m", "length_m", "censored"]
     return RockMass(
         polygons=polygons,
@@ -184,7 +202,7 @@ def generate(config: RockMassConfig, seed: int | None = None) -> RockMass:
         traces=pd.DataFrame(trace_rows, columns=trace_columns),
         lines=pd.DataFrame(line_rows),
         sets=samples,
-        skipped=pd.DataFrame(skipped_rows, columns=["label", "x0_m", "y0_m", "x1_m", "y1_m"]),
+        skipped=pd.DataFrame(skipped_rows, columns=["set", "line", "x0_m", "y0_m", "x1_m", "y1_m"]),
         outline=outline,
         seed=seed,
     )
