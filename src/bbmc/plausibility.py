@@ -112,6 +112,12 @@ RANGES: tuple[Range, ...] = (
          Slip("GPa/mm typed as MPa/mm", _scaled(1e3))),
     ),
     Range(
+        ("intact_rock.cohesion_MPa",), 0, 100, "MPa", "the cohesion of intact rock (a law with breaks_into)",
+        "Mohr-Coulomb's sigma_c = 2 c cos phi / (1 - sin phi): c is 0.13 to 0.29 sigma_c for phi 60 to "
+        "30 deg, so at most about 70 MPa for the strongest rock (ISRM R6, 250 MPa)",
+        (KPA_AS_MPA,),
+    ),
+    Range(
         ("cohesion_MPa",), 0, 1, "MPa", "the cohesion of a rock joint",
         "Barton (1974, in Hoek & Bray 1981): filled joints show peak cohesions of 0 to a few hundred "
         "kPa; a clean joint has none",
@@ -204,13 +210,15 @@ def _numbers(
 ) -> Iterator[tuple[str, str, float]]:
     """(key path for the table, path shown to the user, value) for every number in a parsed YAML tree;
     in a mapping with a `path` (a study's variable or grid axis), the values of `VALUES_AT_PATH` are
-    taken as values at that path (a spread, `std`, is not)."""
+    taken as values at that path (a spread, `std`, is not); the keys of a joint law with `breaks_into`
+    (intact rock) are looked up under `intact_rock`."""
     if isinstance(tree, dict):
         target = tree.get("path")
+        inside = (*keys, "intact_rock") if "breaks_into" in tree else keys  # a bridge's law: intact rock
         for key, value in tree.items():
             where = f"{shown}.{key}" if shown else str(key)
             if not isinstance(target, str):
-                yield from _numbers(value, (*keys, str(key)), where, note)
+                yield from _numbers(value, (*inside, str(key)), where, note)
             elif key in VALUES_AT_PATH:
                 yield from _numbers(value, tuple(target.split(".")), where, f" ({target})")
     elif isinstance(tree, list):

@@ -27,6 +27,8 @@ from bbmc.dem.scene import (
 )
 from bbmc.joint.derived import full_joint
 from bbmc.joint.model import SIGMA_REF
+from bbmc.rockmass.generate import GeometryError
+from bbmc.rockmass.generate import generate as generate_rock_mass
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 SHEAR_CODES = {
@@ -129,7 +131,7 @@ class Model:
         return int(max([*ends, *self.blocks[:, L.VSTART]], default=0))
 
 
-SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope")
+SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope", "rock_mass")
 
 
 def _error(path: Path, key: str, message: str) -> ConfigError:
@@ -157,10 +159,22 @@ def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]
     return shapes, held
 
 
-def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
-    """The entry's blocks (counter-clockwise, turned as asked) and the degrees of freedom held for each."""
+def _shapes(
+    entry: BlockEntry, path: Path, key: str
+) -> tuple[list[np.ndarray], list[list[str]], list[list[str]] | None, list[list[int]]]:
+    """The entry's blocks (counter-clockwise, turned as asked), the degrees of freedom held for each,
+    their edges' labels (a rock mass's; None: from `edge_labels`) and the vertices of each that may be
+    straight angles (where an edge's label changes)."""
+    labels, straight = None, None
     if entry.jointed_slope is not None:
         shapes, held = _slope_blocks(entry.jointed_slope)
+    elif entry.rock_mass is not None:
+        try:
+            mass = generate_rock_mass(entry.rock_mass)
+        except GeometryError as error:
+            raise _error(path, f"{key}.rock_mass.{error.key}", error.reason) from None
+        shapes, labels, straight = mass.polygons, mass.edge_labels, mass.split_vertices
+        held = [["x", "y", "rotation"] if h else [] for h in mass.held]
     else:
         if entry.polygon_m is not None:
             shapes = [np.array(entry.polygon_m, dtype=float)]
@@ -177,7 +191,8 @@ def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
             about = np.array(entry.rotate_about_m) if entry.rotate_about_m else polygons.mass_properties(s)[1]
             turned.append(polygons.rotated(s, entry.rotate_deg * units.deg, about))
         shapes = turned
-    return shapes, [sorted(set(h) | set(entry.fix)) for h in held]
+    fixed = [sorted(set(h) | set(entry.fix)) for h in held]
+    return shapes, fixed, labels, straight or [[] for _ in shapes]
 
 
 def _edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[str]:
@@ -292,14 +307,18 @@ def build_model(scene: Scene, path: Path) -> Model:
             raise _error(path, f"{key}.material", f"no material '{entry.material}' in materials")
         if set(entry.fix) & set(_velocity_dofs(entry)):
             raise _error(path, f"{key}.velocity", "a degree of freedom is both fixed and prescribed")
-        family = entry.brick_wall is not None or entry.jointed_slope is not None
-        shapes_of_entry, held = _shapes(entry)
+        family = (
+            entry.brick_wall is not None or entry.jointed_slope is not None or entry.rock_mass is not None
+        )
+        shapes_of_entry, held, labels_of_entry, straight = _shapes(entry, path, key)
         for k, shape in enumerate(shapes_of_entry):
-            fault = polygons.convexity_fault(shape)
+            fault = polygons.convexity_fault(shape, straight[k])
             if fault:
                 shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
                 raise _error(path, f"{key}.{shape_key}", f"block {k}: {fault}" if family else fault)
-            labels.append(_edge_labels(entry, len(shape), path, key))
+            labels.append(
+                labels_of_entry[k] if labels_of_entry else _edge_labels(entry, len(shape), path, key)
+            )
             names.append(f"{entry.name}.{k}" if family else entry.name)
             groups.append(entry.group or entry.name)
             shapes.append(shape)

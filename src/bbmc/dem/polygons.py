@@ -6,7 +6,7 @@ metre of thickness; the model multiplies them by density (the engine works per m
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -22,8 +22,9 @@ def counter_clockwise(vertices: np.ndarray) -> np.ndarray:
     return vertices if polygon_area(vertices) > 0 else vertices[::-1].copy()
 
 
-def convexity_fault(vertices: np.ndarray) -> str | None:
-    """Why a counter-clockwise polygon is not a usable convex block, or None if it is."""
+def convexity_fault(vertices: np.ndarray, straight: Sequence[int] = ()) -> str | None:
+    """Why a counter-clockwise polygon is not a usable convex block, or None if it is; the vertices
+    `straight` may be straight angles (a point where an edge's label changes: a trace's end)."""
     if len(vertices) < 3:
         return "a block needs at least 3 vertices"
     edges = np.roll(vertices, -1, axis=0) - vertices
@@ -32,7 +33,9 @@ def convexity_fault(vertices: np.ndarray) -> str | None:
     if scale <= 0 or np.min(lengths) <= 1e-9 * scale:
         return "two vertices coincide (an edge of zero length)"
     turns = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
-    if np.any(turns <= 1e-12 * scale * scale):
+    at = (np.arange(len(vertices)) + 1) % len(vertices)  # turns[k] is the angle at vertex k + 1
+    flat = np.isin(at, np.asarray(straight, dtype=np.int64))
+    if np.any(turns[~flat] <= 1e-12 * scale * scale) or np.any(turns[flat] < -1e-9 * scale * scale):
         return "the polygon is not strictly convex (a reflex or straight angle)"
     return None
 

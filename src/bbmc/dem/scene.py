@@ -16,6 +16,7 @@ from pydantic import Field, model_validator
 from bbmc.config import Section
 from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
+from bbmc.rockmass.config import RockMassConfig
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
 Names = Annotated[list[str], Field(min_length=2, max_length=2)]
@@ -95,7 +96,7 @@ class Velocity(Section):
 
 class BlockEntry(Section):
     """One block (polygon_m or rectangle_m) or a family of blocks from a generator (brick_wall,
-    jointed_slope)."""
+    jointed_slope, rock_mass)."""
 
     name: Annotated[str, Field(min_length=1, pattern=r"^[^.\s]+$")]
     material: str
@@ -105,6 +106,7 @@ class BlockEntry(Section):
     rectangle_m: Rectangle | None = None
     brick_wall: BrickWall | None = None
     jointed_slope: JointedSlope | None = None
+    rock_mass: RockMassConfig | None = None
     rotate_deg: float = 0.0  # counter-clockwise, about rotate_about_m [default: the centroid]
     rotate_about_m: Pair | None = None
     fix: list[Dof] = Field(default_factory=list)
@@ -112,7 +114,7 @@ class BlockEntry(Section):
 
     @model_validator(mode="after")
     def _one_shape(self) -> BlockEntry:
-        _exactly_one(self, ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope"), "shape")
+        _exactly_one(self, ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope", "rock_mass"), "shape")
         return self
 
 
