@@ -26,7 +26,7 @@ RHO_W_G = 9810.0
 
 @pytest.mark.parametrize("persistence", [0.5, 0.8])
 def test_ductile_bridges_give_jennings_weighted_strength(persistence):
-    """Within 2 % (the issue's tolerance); measured -0.05 % at k 0.5 and +0.03 % at k 0.8, which is the
+    """Within 2 %; measured -0.05 % at k 0.5 and +0.03 % at k 0.8, which is the
     bisection's half-width (0.004)."""
     result = api.factor_of_safety(fc.block_on_bridged_plane(persistence, brittle=False))
     expected = fc.jennings_factor_of_safety(persistence)
