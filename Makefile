@@ -32,6 +32,8 @@ slope: $(STAMP)
 
 fos: $(STAMP)
 	$(BIN)/bbmc fos --config configs/scenes/planar_crack.yaml
+	$(BIN)/bbmc run configs/scenes/benched_rock_mass.yaml
+	$(BIN)/bbmc fos configs/scenes/benched_rock_mass.yaml
 
 joint: $(STAMP)
 	$(BIN)/bbmc joint --config configs/joint.yaml
@@ -40,6 +42,7 @@ sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/planar_block.yaml
 	$(BIN)/bbmc sweep --config configs/sweeps/paper_slope_le.yaml
 	$(BIN)/bbmc sweep --config configs/sweeps/paper_slope_dem.yaml
+	$(BIN)/bbmc sweep configs/sweeps/benched_rock_mass.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q

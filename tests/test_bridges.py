@@ -157,7 +157,7 @@ def test_a_contact_rule_can_select_labelled_edges():
             "breaks into a law itself",
         ),
         (
-            lambda s: s["contacts"].update(rules=[{"law": "bridge", "edges": "bridge"}]),
+            lambda s: s["contacts"].update(rules=[{"law": "bridge", "edges": "brige"}]),
             "contacts.rules.0.edges",
             "no edge is labelled",
         ),

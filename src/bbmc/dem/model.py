@@ -131,6 +131,7 @@ class Model:
         return int(max([*ends, *self.blocks[:, L.VSTART]], default=0))
 
 
+GENERATED_LABELS = ("joint", "bridge", "cut")  # a rock mass's labels: a realization may lack any of them
 SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope", "rock_mass")
 
 
@@ -409,7 +410,7 @@ def build_model(scene: Scene, path: Path) -> Model:
             rule_dip[r] = np.array(rule.dip_deg) * units.deg
         if rule.edges is not None:
             rule_edges[r] = [x == rule.edges or x.startswith(rule.edges + ".") for x in label_names]
-            if not rule_edges[r].any():
+            if not rule_edges[r].any() and rule.edges.split(".")[0] not in GENERATED_LABELS:
                 raise _error(path, f"{key}.edges", f"no edge is labelled '{rule.edges}'")
 
     block_loads = np.zeros((len(scene.loads.block_forces), 5))

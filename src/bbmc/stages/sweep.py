@@ -160,6 +160,11 @@ def inputs_of(config: Config, config_path: Path, ranges: dict[str, Range]) -> In
     variables, truncated = [], {}
     for k, v in enumerate(config.variables):
         where, accepted = f"{config_path}: key 'variables.{k}", ranges[v.path]
+        if v.distribution == "realization":
+            if not accepted.integer or accepted.low < 0:
+                raise ConfigError(f"{where}.distribution': a realization draws seeds: '{v.path}' is no seed")
+            variables.append((v.path, design.marginal("realization")))
+            continue
         if accepted.integer:
             raise ConfigError(f"{where}.path': '{v.path}' takes whole numbers: vary it with a grid")
         try:
@@ -306,7 +311,14 @@ def fs_at_mean_inputs(
     truncated mean), the others at the base's values; run like a sample, kept in `store`. NaN, with a
     line on stderr, if the run fails."""
     means = pd.DataFrame(
-        [{path: float(dist.mean()) for path, dist in inputs.variables}], index=pd.RangeIndex(1, name="sample")
+        [
+            {
+                path: float(dist.mean())
+                for path, dist in inputs.variables
+                if not isinstance(dist, design.Realizations)
+            }
+        ],
+        index=pd.RangeIndex(1, name="sample"),
     )
     problem = impossible_inputs(means, inputs.ranges).iloc[0]
     result = (

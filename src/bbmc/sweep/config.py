@@ -94,13 +94,14 @@ class Variable(Section):
     """A varying input by its dotted path in the base (e.g. strength.friction_deg, or
     joint_laws.joint.friction_deg in a scene; list entries by their index) and its distribution:
     normal (mean, std), lognormal (mean, std of the variable), uniform (min, max), triangular (min,
-    mode, max), truncated_normal (mean, std, min, max). `truncate` (default true): the distribution is
+    mode, max), truncated_normal (mean, std, min, max), or realization (no parameters: a seed per sample,
+    for a whole-number key such as a rock mass's seed). `truncate` (default true): the distribution is
     truncated to the range the key accepts (a cohesion >= 0, a friction angle in [0, 90) deg:
     `bbmc.sweep.ranges`), renormalised; false keeps the whole distribution, and a sample drawn outside
     the range is counted as impossible and not run."""
 
     path: Annotated[str, Field(min_length=1)]
-    distribution: Literal["normal", "lognormal", "uniform", "triangular", "truncated_normal"]
+    distribution: Literal["normal", "lognormal", "uniform", "triangular", "truncated_normal", "realization"]
     mean: float | None = None
     std: float | None = None
     min: float | None = None
@@ -116,6 +117,7 @@ class Variable(Section):
             "uniform": ("min", "max"),
             "triangular": ("min", "mode", "max"),
             "truncated_normal": ("mean", "std", "min", "max"),
+            "realization": (),
         }[self.distribution]
         return {name: getattr(self, name) for name in names}
 

@@ -48,6 +48,7 @@ _PARAMETERS = {
     "uniform": ("min", "max"),
     "triangular": ("min", "mode", "max"),
     "truncated_normal": ("mean", "std", "min", "max"),
+    "realization": (),
 }
 
 # Bounds of a truncation holding less than this of the distribution's probability are refused.
@@ -86,6 +87,17 @@ def lognormal_parameters(mean: float, std: float) -> tuple[float, float]:
     return math.log(mean) - 0.5 * sigma2, math.sqrt(sigma2)
 
 
+class Realizations:
+    """A realization seed per sample (a rock mass's `seed`): the design's u in (0, 1) mapped to one of
+    2^31 seeds, floor(2^31 u), so every sample draws its own geometry and the study integrates over it
+    (Einstein et al. 1983). It has no mean: the FS at the mean inputs keeps the base's own seed."""
+
+    SEEDS = 2**31
+
+    def ppf(self, u: ArrayLike) -> NDArray[np.float64]:
+        return np.floor(np.asarray(u, dtype=float) * self.SEEDS)
+
+
 def marginal(kind: str, **params: float):
     """A frozen scipy.stats distribution for one uncertain input, from RocPlane-style parameters.
 
@@ -96,6 +108,7 @@ def marginal(kind: str, **params: float):
       to scipy's lognorm(s=sigma, scale=exp(mu)).
     * "uniform": min < max.
     * "triangular": min <= mode <= max, min < max; scipy's triang(c=(mode-min)/(max-min)).
+    * "realization": no parameters; a seed per sample (`Realizations`).
     * "truncated_normal": mean, std (> 0) of the normal before truncation, absolute bounds min < max;
       scipy's truncnorm(a=(min-mean)/std, b=(max-mean)/std). Its own mean and std differ from the
       parameters unless the bounds are far out. Bounds holding less than 1e-12 of the normal's
@@ -104,6 +117,8 @@ def marginal(kind: str, **params: float):
     Raises ValueError naming the parameter for a meaningless value, a missing or an unexpected one.
     """
     p = _check_parameters(kind, params)
+    if kind == "realization":
+        return Realizations()
     if kind == "normal":
         return stats.norm(loc=p["mean"], scale=p["std"])
     if kind == "lognormal":

@@ -1,0 +1,97 @@
+"""A rock mass in a scene: the generator's blocks and edge labels in the engine, their faults named
+under the scene's key, and its geometry as a random variable of a study."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from click.testing import CliRunner
+
+from bbmc import api
+from bbmc.cli import main
+from bbmc.dem.model import build_model
+from bbmc.rockmass import generate
+from bbmc.sweep import design
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENE = ROOT / "configs" / "scenes" / "benched_rock_mass.yaml"
+
+
+def _scene() -> dict:
+    return yaml.safe_load(SCENE.read_text())
+
+
+def test_the_scene_holds_the_generators_blocks_and_labels():
+    """Every block and edge label of the realization reaches the engine, and the contacts on bridges and
+    cuts get the intact law by their rules."""
+    scene = api.load_scene(_scene())
+    model = build_model(scene, SCENE)
+    mass = generate(scene.blocks[0].rock_mass)
+    assert len(model.block_names) == len(mass.polygons)
+    labels = [model.label_names[i] for i in model.edge_label]
+    assert labels == [label for block in mass.edge_labels for label in block]
+    assert {"bridge.bedding", "joint.bedding", "joint.cross"} <= set(labels)
+    result = api.run(_scene() | {"solver": {"steps": 200}})
+    laws = set(result.contacts["joint_law"])
+    assert laws == {"joint", "intact"}
+
+
+def test_a_generators_fault_is_named_under_the_scenes_key(tmp_path):
+    scene = _scene()
+    scene["blocks"][0]["rock_mass"]["joint_sets"][0]["spacing_m"] = {"distribution": "constant", "value": 0.0}
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(tmp_path / "out")])
+    assert outcome.exit_code == 2
+    errors = [line for line in outcome.output.splitlines() if ": warning: " not in line]
+    assert len(errors) == 1 and "blocks.0.rock_mass.joint_sets.0.spacing_m" in errors[0], outcome.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_realization_variable_draws_one_seed_per_sample():
+    """floor(2^31 u): whole numbers in [0, 2^31), distinct for distinct strata of the design."""
+    u = np.array([1e-12, 0.25, 0.5, 1 - 1e-12])
+    seeds = design.marginal("realization").ppf(u)
+    assert np.array_equal(seeds, np.floor(seeds)) and seeds.min() >= 0 and seeds.max() < 2**31
+    assert len(set(seeds)) == len(seeds)
+
+
+def _study(tmp_path: Path, variable: dict) -> Path:
+    scene = _scene()
+    scene["blocks"][0]["rock_mass"]["profile"]["benches"]["count"] = 1
+    (tmp_path / "scene.yaml").write_text(yaml.safe_dump(scene))
+    study = {
+        "name": "geometry",
+        "base": {"kind": "scene_fos", "scene": "scene.yaml"},
+        "variables": [variable],
+        "sampling": {"method": "monte_carlo", "samples": 2, "seed": 4},
+        "batch_size": 1,
+    }
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    return path
+
+
+@pytest.mark.slow
+def test_a_study_over_realizations_is_reproducible(tmp_path):
+    """Two samples, each its own realization of the joint sets: the same study gives the same seeds and
+    factors of safety again."""
+    path = _study(tmp_path, {"path": "blocks.0.rock_mass.seed", "distribution": "realization"})
+    tables = []
+    for run in ("a", "b"):
+        outcome = CliRunner().invoke(main, ["sweep", str(path), "--results", str(tmp_path / run)])
+        assert outcome.exit_code == 0, outcome.output
+        tables.append((tmp_path / run / "sweep" / "geometry" / "samples.csv").read_text())
+    assert tables[0] == tables[1]
+    assert "error" in tables[0].splitlines()[0]
+
+
+def test_a_realization_on_a_key_that_is_no_seed_is_refused(tmp_path):
+    variable = {"path": "joint_laws.joint.friction_deg", "distribution": "realization"}
+    path = _study(tmp_path, variable)
+    outcome = CliRunner().invoke(main, ["sweep", str(path), "--results", str(tmp_path / "out")])
+    assert outcome.exit_code == 2
+    assert "variables.0.distribution" in outcome.output and "no seed" in outcome.output
