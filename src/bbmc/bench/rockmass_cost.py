@@ -5,7 +5,11 @@ default spacings; wall time best of `repeats`, after one warm-up realization (im
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
+from bbmc.dem.model import build_model
+from bbmc.dem.scene import Scene
+from bbmc.dem.solver import advance, prepare
 from bbmc.rockmass import RockMassConfig, generate
 
 SPACINGS_M = {"bedding": 0.8, "cross": 0.96, "steep": 3.2}  # about 10,000 blocks
@@ -73,3 +77,48 @@ def rockmass_cost(repeats: int = 3, spacing_scale: float = 1.0, seed: int = 1) -
         "seconds": min(seconds),
         "blocks_per_s": len(mass.polygons) / min(seconds),
     }
+
+
+JOINT = {"law": "constant", "kn_MPa_per_mm": 10, "ks_MPa_per_mm": 5, "friction_deg": 38}
+INTACT = JOINT | {
+    "friction_deg": 45,
+    "cohesion_MPa": 0.5,
+    "tensile_strength_MPa": 0.2,
+    "breaks_into": "joint",
+}
+
+
+def bridged_scene(spacing_scale: float, bridges: bool) -> dict:
+    """The rock mass of `rockmass_cost` as a scene, its bridges and cuts intact rock (`bridges`) or the
+    same geometry with every contact the plain joint."""
+    rules = [{"law": "intact", "edges": "bridge"}, {"law": "intact", "edges": "cut"}] if bridges else []
+    return {
+        "name": "bridged" if bridges else "plain",
+        "materials": {"rock": {"density_kg_m3": 2600}},
+        "blocks": [{"name": "mass", "material": "rock", "rock_mass": _config(spacing_scale).model_dump()}],
+        "joint_laws": {"joint": JOINT, "intact": INTACT},
+        "contacts": {"default_law": "joint", "rules": rules},
+        "solver": {"steps": 1},
+    }
+
+
+def bridge_cost(spacing_scale: float, steps: int, repeats: int) -> list[dict]:
+    """Seconds per step of the same rock mass with its bridges and cuts as intact rock and with plain
+    joints, alternately in this process, best of `repeats` (after one warm-up run of each)."""
+    models = {
+        b: build_model(Scene.model_validate(bridged_scene(spacing_scale, b)), Path("bench.yaml"))
+        for b in (True, False)
+    }
+    best = {True: float("inf"), False: float("inf")}
+    for repeat in range(repeats + 1):
+        for with_bridges, model in models.items():
+            state = prepare(model)
+            begin = time.perf_counter()
+            advance(model, state, steps)
+            if repeat:
+                best[with_bridges] = min(best[with_bridges], (time.perf_counter() - begin) / steps)
+    blocks = len(models[True].block_names)
+    return [
+        {"scene": "bridges and cuts intact", "blocks": blocks, "seconds_per_step": best[True]},
+        {"scene": "plain joints", "blocks": blocks, "seconds_per_step": best[False]},
+    ]

@@ -45,6 +45,7 @@ from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.fos_cost import fos_cost_table
 from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
+from bbmc.bench.rockmass_cost import bridge_cost, rockmass_cost
 from bbmc.bench.scaling import scaling_figure, scaling_table
 from bbmc.bench.sweep_cost import sweep_cost_table
 from bbmc.config import ConfigError, InputFile, Section
@@ -52,7 +53,7 @@ from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
 
 NAME = "bench"
-SECTIONS = ("tradeoff", "economy", "scaling", "engine_cost", "fos", "mobilized", "sweep", "laws")
+SECTIONS = ("tradeoff", "economy", "scaling", "engine_cost", "fos", "mobilized", "sweep", "laws", "rockmass")
 
 
 Fraction = Annotated[float, Field(gt=0, le=1)]
@@ -144,6 +145,15 @@ class SweepCost(Section):
     repeats: Repeats
 
 
+class RockMassCost(Section):
+    """A rock mass of about 10,000 blocks (`bbmc.bench.rockmass_cost`): its generation time, and the
+    engine's cost per step with its bridges and cuts as intact rock against plain joints."""
+
+    spacing_scale: Annotated[float, Field(gt=0)] = 1.0  # 1: about 10,000 blocks
+    steps: Annotated[int, Field(ge=10, le=1_000_000)]
+    repeats: Repeats
+
+
 class Config(Section):
     """The paper's scenes and the sections to run (each optional, at least one given)."""
 
@@ -157,6 +167,7 @@ class Config(Section):
     mobilized: MobilizedCost | None = None
     sweep: SweepCost | None = None
     laws: Laws | None = None
+    rockmass: RockMassCost | None = None
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
     @model_validator(mode="after")
@@ -314,6 +325,23 @@ def laws_part(config: Config, scenes: PaperScenes, progress: Callable[[str], Non
     return {"laws": law_table(config.laws)}, {}
 
 
+def rockmass_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    settings = config.rockmass
+    progress("rock mass: generation and the cost of bridges per step")
+    generation = rockmass_cost(settings.repeats, settings.spacing_scale)
+    steps = bridge_cost(settings.spacing_scale, settings.steps, settings.repeats)
+    plain = steps[1]["seconds_per_step"]
+    rows = [
+        {"quantity": "blocks", "value": generation["blocks"], "unit": "1"},
+        {"quantity": "traces", "value": generation["traces"], "unit": "1"},
+        {"quantity": "generation_time", "value": generation["seconds"], "unit": "s"},
+        {"quantity": "seconds_per_step_bridges", "value": steps[0]["seconds_per_step"], "unit": "s"},
+        {"quantity": "seconds_per_step_plain_joints", "value": plain, "unit": "s"},
+        {"quantity": "bridges_over_plain", "value": steps[0]["seconds_per_step"] / plain, "unit": "1"},
+    ]
+    return {"rockmass_cost": pd.DataFrame(rows)}, {}
+
+
 PARTS = {
     "tradeoff": tradeoff_part,
     "economy": economy_part,
@@ -323,6 +351,7 @@ PARTS = {
     "mobilized": mobilized_part,
     "sweep": sweep_part,
     "laws": laws_part,
+    "rockmass": rockmass_part,
 }
 
 
