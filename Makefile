@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: reproduce test test-slow bench lint fit mc audit shear slope fos joint sweep clean
+.PHONY: reproduce test test-slow bench lint fit mc audit shear slope fos joint joints sweep clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-reproduce: fit mc audit shear slope fos joint sweep
+reproduce: fit mc audit shear slope fos joint joints sweep
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -34,6 +34,9 @@ fos: $(STAMP)
 
 joint: $(STAMP)
 	$(BIN)/bbmc joint --config configs/joint.yaml
+
+joints: $(STAMP)
+	$(BIN)/bbmc joints --config configs/joints.yaml
 
 sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/planar_block.yaml

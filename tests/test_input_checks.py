@@ -20,7 +20,7 @@ from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.scene import Scene
 from bbmc.plausibility import ImplausibleValue
-from bbmc.stages import audit, bench, fit, joint, mc, shear, slope
+from bbmc.stages import audit, bench, fit, joint, joints, mc, shear, slope
 from bbmc.sweep.config import Config as Study
 from stage_runs import config_copy
 
@@ -34,6 +34,7 @@ STAGE_MODELS = {
     "mc": mc.Config,
     "audit": audit.Config,
     "joint": joint.Config,
+    "joints": joints.Config,
     "shear": shear.Config,
     "slope": slope.Config,
     "bench": bench.Config,
