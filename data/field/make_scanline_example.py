@@ -150,15 +150,16 @@ def survey_set(rng: np.random.Generator, name: str, truth: dict) -> list[tuple]:
     ]
 
 
-def make(out: Path) -> None:
-    """Write the survey to `out`, sorted by position along the line as it would be mapped."""
-    rng = np.random.default_rng(SEED)
+def make(out: Path, seed: int = SEED) -> None:
+    """Write the survey drawn with `seed` to `out`, sorted by position along the line as it would be
+    mapped."""
+    rng = np.random.default_rng(seed)
     rows = sorted(
         (row for name, truth in TRUTH.items() for row in survey_set(rng, name, truth)), key=lambda r: r[1]
     )
     lines = [
         "# SYNTHETIC scanline survey, not field data: drawn from known distributions by",
-        f"# make_scanline_example.py (seed {SEED}; the truth is in that script). Trend 000, plunge 0, "
+        f"# make_scanline_example.py (seed {seed}; the truth is in that script). Trend 000, plunge 0, "
         f"{LENGTH_M:g} m.",
         "set,position_m,dip_deg,dip_direction_deg,trace_length_m,censored_ends",
     ]
