@@ -56,7 +56,10 @@ def _orientation(ax, fit: SetFit) -> None:
         title = f"mean {np.degrees(o.dip):.1f}/{np.degrees(o.dip_direction):05.1f}"
     else:
         dips = np.degrees(fit.survey.dip)
-        ax.hist(dips, bins="auto", density=True, color="0.8", edgecolor="0.5", label=f"{dips.size} dips")
+        width = max(1.0, np.ceil(np.diff(np.histogram_bin_edges(dips, bins="auto"))[0]))
+        bins = np.arange(np.floor(dips.min()) - 0.5, dips.max() + width, width)  # whole degrees per bin
+        bins = np.unique(np.minimum(bins, 90.5))
+        ax.hist(dips, bins=bins, density=True, color="0.8", edgecolor="0.5", label=f"{dips.size} dips")
         mean, std = np.degrees(o.dip), np.degrees(o.dip_std)
         grid = np.linspace(max(mean - 4 * std, 0.0), min(mean + 4 * std, 90.0), 300)
         density = np.exp(-0.5 * ((grid - mean) / std) ** 2) / (std * np.sqrt(2.0 * np.pi))

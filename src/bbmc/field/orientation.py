@@ -17,7 +17,8 @@ alpha clockwise from north, a line's trend clockwise from north and its plunge d
 * Without dip directions, the dips alone: their weighted mean and standard deviation (a normal fit).
   For a concentrated Fisher set each component of a pole's deviation has the variance 1/K, and a dip's
   deviation is one such component, so K = 1 / sigma_dip^2 (sigma in radians) is the set's equivalent
-  concentration (valid for K of about 10 and more, and for poles well off the vertical).
+  concentration (valid for K of about 10 and more, and for sets neither nearly flat nor nearly
+  vertical: the dips of a steep set fold at 90 deg, which biases their mean and spread).
 """
 
 from __future__ import annotations
