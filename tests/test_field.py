@@ -38,7 +38,7 @@ from bbmc.field.orientation import (
     terzaghi_weights,
 )
 from bbmc.field.survey import read_survey
-from stage_runs import ROOT, config_copy, run_stage
+from stage_runs import ROOT, config_copy, refused, run_stage
 
 FIELD = ROOT / "data" / "field"
 SCRIPT = FIELD / "make_scanline_example.py"
@@ -334,16 +334,6 @@ def test_two_joints_read_at_one_position_are_a_spacing_below_the_reading(tmp_pat
 # ---------------------------------------------------------------- bad input: one line, exit 2, no files
 
 
-def _refused(outcome, folder: Path, *fragments: str) -> None:
-    assert outcome.exit_code == 2, outcome.output
-    lines = outcome.stderr.strip().splitlines()
-    assert len(lines) == 1, outcome.stderr
-    assert "Traceback" not in outcome.output
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    assert not folder.exists()
-
-
 def _survey_with(tmp_path: Path, change) -> Path:
     lines = EXAMPLE.read_text().splitlines()
     change(lines)
@@ -377,12 +367,12 @@ def _cell(line: int, column: str, value: str):
 def test_a_bad_cell_names_the_file_line_and_column(tmp_path, line, column, value, says):
     path = _survey_with(tmp_path, _cell(line, column, value))
     outcome, folder = _run(tmp_path, survey=path)
-    _refused(outcome, folder, str(path), f"line {line}: column '{column}'", says)
+    refused(outcome, folder, str(path), f"line {line}: column '{column}'", says)
 
 
 def test_a_set_of_the_config_missing_from_the_survey_is_refused(tmp_path):
     outcome, folder = _run(tmp_path, lambda data: data["sets"].update({"J3": {"persistence": 1.0}}))
-    _refused(outcome, folder, "joints.yaml", "key 'sets.J3'", "no discontinuity of set 'J3'")
+    refused(outcome, folder, "joints.yaml", "key 'sets.J3'", "no discontinuity of set 'J3'")
 
 
 def test_a_set_with_too_few_traces_says_how_many_are_needed(tmp_path):
@@ -392,19 +382,19 @@ def test_a_set_with_too_few_traces_says_how_many_are_needed(tmp_path):
 
     path = _survey_with(tmp_path, few)
     outcome, folder = _run(tmp_path, survey=path)
-    _refused(outcome, folder, str(path), "set 'J2' has 9 discontinuities", "at least 10")
+    refused(outcome, folder, str(path), "set 'J2' has 9 discontinuities", "at least 10")
 
 
 def test_a_persistence_too_low_for_the_spacing_is_refused(tmp_path):
     outcome, folder = _run(tmp_path, lambda data: data["sets"]["J2"].update({"persistence": 0.3}))
-    _refused(outcome, folder, "set 'J2'", "sets.J2.persistence", "give at least")
+    refused(outcome, folder, "set 'J2'", "sets.J2.persistence", "give at least")
 
 
 def test_a_survey_without_dip_directions_needs_the_sets_mean_one(tmp_path, survey):
     plain = tmp_path / "no_directions.csv"
     survey.drop(columns="dip_direction_deg").to_csv(plain, index=False)
     outcome, folder = _run(tmp_path, survey=plain)
-    _refused(outcome, folder, str(plain), "set 'J1' has none", "sets.J1.dip_direction_deg")
+    refused(outcome, folder, str(plain), "set 'J1' has none", "sets.J1.dip_direction_deg")
 
 
 # ---------------------------------------------------------------- many surveys

@@ -112,6 +112,24 @@ def histograms(fits: list[SetFit], chosen: dict[tuple[str, str], dist.Candidate]
     return fig
 
 
+def _petals(ax, angles: np.ndarray, span_deg: float, width_deg: float, share, colour, label) -> float:
+    """Petals of `width_deg` over 0 to `span_deg` holding the weights `share` of `angles` [rad]; the
+    longest petal's length."""
+    edges = np.radians(np.arange(0.0, span_deg + width_deg / 2, width_deg))
+    counts, _ = np.histogram(angles, bins=edges, weights=share)
+    ax.bar(
+        edges[:-1],
+        counts,
+        width=np.radians(width_deg),
+        align="edge",
+        color=colour,
+        alpha=0.55,
+        edgecolor=colour,
+        label=label,
+    )
+    return float(counts.max())
+
+
 def rose(fits: list[SetFit], trend: float, section_azimuth: float, dpi: int) -> Figure:
     """Rose diagrams, Terzaghi-weighted: dip directions (10 deg petals) with the scanline's trend and the
     section's azimuth, and dips (5 deg petals). A set mapped without dip directions is a dashed ray at
@@ -122,35 +140,13 @@ def rose(fits: list[SetFit], trend: float, section_azimuth: float, dpi: int) -> 
     directions.set_theta_zero_location("N")
     directions.set_theta_direction(-1)
     dips.set_theta_zero_location("E")
-    petals = np.radians(np.arange(0.0, 361.0, 10.0))
-    dip_petals = np.radians(np.arange(0.0, 91.0, 5.0))
     top = 0.0
     for colour, fit in zip(COLOURS, fits, strict=False):
         share = fit.weights / fit.weights.sum() * fit.count
         if fit.survey.dip_direction is not None:
-            counts, _ = np.histogram(fit.survey.dip_direction, bins=petals, weights=share)
-            directions.bar(
-                petals[:-1],
-                counts,
-                width=np.radians(10.0),
-                align="edge",
-                color=colour,
-                alpha=0.55,
-                edgecolor=colour,
-                label=f"{fit.survey.name} ({fit.count})",
-            )
-            top = max(top, counts.max())
-        counts, _ = np.histogram(fit.survey.dip, bins=dip_petals, weights=share)
-        dips.bar(
-            dip_petals[:-1],
-            counts,
-            width=np.radians(5.0),
-            align="edge",
-            color=colour,
-            alpha=0.55,
-            edgecolor=colour,
-            label=fit.survey.name,
-        )
+            label = f"{fit.survey.name} ({fit.count})"
+            top = max(top, _petals(directions, fit.survey.dip_direction, 360.0, 10.0, share, colour, label))
+        _petals(dips, fit.survey.dip, 90.0, 5.0, share, colour, fit.survey.name)
     top = top or 1.0
     for fit, colour in zip(fits, COLOURS, strict=False):
         if fit.survey.dip_direction is None:

@@ -23,6 +23,7 @@ import pandas as pd
 
 from bbmc import units
 from bbmc.config import ConfigError
+from bbmc.io import read_csv
 
 NUMBERS = {
     "position_m": (0.0, np.inf, "a distance along the scanline, >= 0"),
@@ -51,25 +52,21 @@ class SetSurvey:
 
 def _comment_lines(path: Path) -> int:
     count = 0
-    with path.open(encoding="utf-8") as handle:
-        for text in handle:
-            if not text.startswith("#"):
-                break
-            count += 1
+    try:
+        with path.open("rb") as handle:
+            for text in handle:
+                if not text.startswith(b"#"):
+                    break
+                count += 1
+    except OSError as error:
+        raise ConfigError(f"{path}: cannot read: {error.strerror}") from None
     return count
 
 
 def read_rows(path: Path) -> tuple[pd.DataFrame, int]:
     """The survey's rows as text, and the file line of its first row."""
-    try:
-        skipped = _comment_lines(path)
-        table = pd.read_csv(path, skiprows=skipped, dtype=str, keep_default_na=False, skipinitialspace=True)
-    except UnicodeDecodeError as error:
-        raise ConfigError(
-            f"{path}: not UTF-8 text (byte {error.start}): a binary file, or another encoding"
-        ) from None
-    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as error:
-        raise ConfigError(f"{path}: cannot read CSV: {str(error).splitlines()[0]}") from None
+    skipped = _comment_lines(path)
+    table = read_csv(path, skiprows=skipped, dtype=str, keep_default_na=False, skipinitialspace=True)
     for column in REQUIRED:
         if column not in table.columns:
             raise ConfigError(
