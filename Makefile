@@ -5,7 +5,8 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: reproduce test test-slow bench lint docs fit mc audit shear slope fos joint sweep clean
+
+.PHONY: reproduce test test-slow bench lint docs fit mc audit shear slope fos joint joints sweep clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -13,7 +14,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
-reproduce: fit mc audit shear slope fos joint sweep
+reproduce: fit mc audit shear slope fos joint joints sweep
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -37,6 +38,9 @@ fos: $(STAMP)
 
 joint: $(STAMP)
 	$(BIN)/bbmc joint --config configs/joint.yaml
+
+joints: $(STAMP)
+	$(BIN)/bbmc joints --config configs/joints.yaml
 
 sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/planar_block.yaml

@@ -15,6 +15,19 @@ CONFIGS = ROOT / "configs"
 PAPER = ROOT / "data" / "paper"
 
 
+def refused(outcome: Result, out: Path, *fragments: str) -> str:
+    """The one line of a refused command (exit status 2, no traceback, `out` not written), which must
+    hold every one of `fragments`."""
+    assert outcome.exit_code == 2, outcome.output
+    lines = outcome.stderr.strip().splitlines()
+    assert len(lines) == 1, outcome.stderr
+    assert "Traceback" not in outcome.output
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+    assert not out.exists(), "something was written"
+    return lines[0]
+
+
 def run_stage(stage: str, results: Path, config: Path | None = None) -> Result:
     """`bbmc <stage> --config <config> --results <results>`; the result carries exit code and output."""
     config = config or CONFIGS / f"{stage}.yaml"

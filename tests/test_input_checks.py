@@ -20,9 +20,10 @@ from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.scene import Scene
 from bbmc.plausibility import ImplausibleValue
-from bbmc.stages import audit, bench, fit, joint, mc, shear, slope
+from bbmc.stages import audit, bench, fit, joint, joints, mc, shear, slope
 from bbmc.sweep.config import Config as Study
 from stage_runs import config_copy
+from stage_runs import refused as _refused
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = ROOT / "configs"
@@ -34,6 +35,7 @@ STAGE_MODELS = {
     "mc": mc.Config,
     "audit": audit.Config,
     "joint": joint.Config,
+    "joints": joints.Config,
     "shear": shear.Config,
     "slope": slope.Config,
     "bench": bench.Config,
@@ -43,17 +45,6 @@ EVERY_CONFIG = sorted(CONFIGS.glob("**/*.yaml"))
 
 def _invoke(*args: object) -> Result:
     return CliRunner().invoke(main, [str(a) for a in args])
-
-
-def _refused(outcome: Result, out: Path, *fragments: str) -> str:
-    assert outcome.exit_code == 2, outcome.output
-    lines = outcome.stderr.strip().splitlines()
-    assert len(lines) == 1, outcome.stderr
-    assert "Traceback" not in outcome.output
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    assert not out.exists(), "something was written"
-    return lines[0]
 
 
 def _model_of(path: Path):

@@ -28,6 +28,7 @@ from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
 from bbmc.stages import fos as fos_stage
 from bbmc.stages import joint as joint_stage
+from bbmc.stages import joints as joints_stage
 from bbmc.stages import mc as mc_stage
 from bbmc.stages import run as run_stage
 from bbmc.stages import shear as shear_stage
@@ -247,6 +248,16 @@ STAGE_HELP = {
       bbmc joint configs/joint.yaml
     writes results/joint/scale.csv, envelopes.csv, shear_curves.csv, closure.csv, envelopes.png,
     shear_curves.png, mobilization.png, closure.png, provenance.json
+    """,
+    joints_stage: """Fit joint sets to a scanline survey (set, position, dip, dip direction, trace
+    length, hidden ends) and write them as a scene's joint sets (docs/field-data.md).
+
+    \b
+    Example:
+      bbmc joints configs/joints.yaml
+    writes results/joints/fits.csv (every candidate distribution: parameters, AIC, n, KS p-value),
+    sets.csv (orientation, Terzaghi factor, frequency, trace in the section), joint_sets.yaml (the
+    block a scene's rock_mass reads), histograms.png, rose.png, provenance.json
     """,
     audit_stage: """Recompute and judge every derivable number of the paper (docs/paper-audit.md).
 

@@ -25,20 +25,26 @@ POSITIVE: RowCheck = (lambda v: v > 0, "must be > 0")
 ANY: RowCheck = (lambda v: True, "")
 
 
-def read_table(path: Path, columns: Mapping[str, RowCheck]) -> pd.DataFrame:
-    """Read a CSV and check each named column, cell by cell; blank cells are allowed (NaN).
-
-    A missing column, a non-numeric cell or a cell failing its check raises `ConfigError` naming the
-    file, the line (header = line 1) and the column.
-    """
+def read_csv(path: Path, **options: object) -> pd.DataFrame:
+    """`pandas.read_csv(path, **options)`; a file that cannot be read as CSV text raises `ConfigError`
+    naming it."""
     try:
-        table = pd.read_csv(path)
+        return pd.read_csv(path, **options)
     except UnicodeDecodeError as exc:
         raise ConfigError(
             f"{path}: not UTF-8 text (byte {exc.start}): a binary file, or another encoding"
         ) from None
     except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
         raise ConfigError(f"{path}: cannot read CSV: {str(exc).splitlines()[0]}") from None
+
+
+def read_table(path: Path, columns: Mapping[str, RowCheck]) -> pd.DataFrame:
+    """Read a CSV and check each named column, cell by cell; blank cells are allowed (NaN).
+
+    A missing column, a non-numeric cell or a cell failing its check raises `ConfigError` naming the
+    file, the line (header = line 1) and the column.
+    """
+    table = read_csv(path)
     for name, (check, rule) in columns.items():
         if name not in table.columns:
             raise ConfigError(f"{path}: missing column '{name}'")

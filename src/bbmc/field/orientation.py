@@ -1,0 +1,181 @@
+"""Orientations of a mapped joint set: poles, Terzaghi's weights, the set's mean and scatter, and its
+trace in a vertical section.
+
+Axes: x east, y north, z up. Angles in radians: dip psi from the horizontal (0 to pi/2), dip direction
+alpha clockwise from north, a line's trend clockwise from north and its plunge downward positive.
+
+* Pole of a plane: n = (sin psi sin alpha, sin psi cos alpha, cos psi), the upward unit normal.
+* Direction of a line: l = (cos p sin t, cos p cos t, -sin p).
+* Orientation bias (Terzaghi 1965): a line meets a plane whose normal makes the angle delta with it
+  with a probability proportional to |cos delta| = |n . l|, so a joint is counted with the weight
+  w = 1 / |cos delta|. Planes nearly parallel to the line (delta near 90 deg) would get unbounded
+  weights from a handful of joints, so w is capped at `max_weight` (1 / sin 15 deg = 3.86 is the
+  default of Rocscience's Dips, its "minimum bias angle" of 15 deg; any cap is a judgement).
+* Mean pole and Fisher's K (Fisher 1953): the weighted resultant of the poles (weights scaled to sum
+  to the number of joints N), R its length, K = (N - 1) / (N - R). Poles are axes: each is first turned
+  to the side of the set's principal axis (the largest eigenvector of sum w n n^T).
+* Without dip directions, the dips alone: their weighted mean and standard deviation (a normal fit).
+  For a concentrated Fisher set each component of a pole's deviation has the variance 1/K, and a dip's
+  deviation is one such component, so K = 1 / sigma_dip^2 (sigma in radians) is the set's equivalent
+  concentration (valid for K of about 10 and more, and for sets neither nearly flat nor nearly
+  vertical: the dips of a steep set fold at 90 deg, which biases their mean and spread).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+
+
+def poles(dip: np.ndarray, dip_direction: np.ndarray) -> np.ndarray:
+    """Upward unit normals (N x 3) of planes of `dip` and `dip_direction` [rad]."""
+    dip, dip_direction = np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
+    return np.stack(
+        [np.sin(dip) * np.sin(dip_direction), np.sin(dip) * np.cos(dip_direction), np.cos(dip)], axis=-1
+    )
+
+
+def line_direction(trend: float, plunge: float) -> np.ndarray:
+    """Unit vector of a line of `trend` and `plunge` (downward positive) [rad]."""
+    return np.array([np.cos(plunge) * np.sin(trend), np.cos(plunge) * np.cos(trend), -np.sin(plunge)])
+
+
+def dip_and_direction(pole: np.ndarray) -> tuple[float, float]:
+    """Dip and dip direction [rad] of the plane with normal `pole` (either sense)."""
+    pole = pole / np.linalg.norm(pole)
+    if pole[2] < 0:
+        pole = -pole
+    dip = float(np.arccos(np.clip(pole[2], -1.0, 1.0)))
+    return dip, float(np.arctan2(pole[0], pole[1]) % (2.0 * np.pi))
+
+
+def terzaghi_weights(normals: np.ndarray, line: np.ndarray, max_weight: float) -> np.ndarray:
+    """w = 1 / |cos delta| per joint, delta the angle between its normal and the scanline, capped at
+    `max_weight` (Terzaghi 1965)."""
+    cos_delta = np.abs(normals @ line)
+    with np.errstate(divide="ignore"):
+        return np.minimum(1.0 / cos_delta, max_weight)
+
+
+@dataclass(frozen=True)
+class SetOrientation:
+    """A set's mean plane and scatter. `fisher_k` is estimated from the poles (`from_dip_directions`)
+    or equivalent to the dips' scatter (1 / sigma^2); `dip_std` is the weighted std of the dips."""
+
+    dip: float  # rad
+    dip_direction: float  # rad
+    fisher_k: float
+    dip_std: float  # rad
+    from_dip_directions: bool
+    normal: np.ndarray
+    deviation: np.ndarray  # per joint: angle between its pole and the mean pole [rad] (dips: dip - mean)
+
+
+def _normalised(weights: np.ndarray) -> np.ndarray:
+    return weights * weights.size / weights.sum()
+
+
+def fisher_orientation(normals: np.ndarray, weights: np.ndarray) -> SetOrientation:
+    """The weighted mean pole and Fisher's K = (N - 1) / (N - R) of poles taken as axes."""
+    w = _normalised(weights)
+    _, vectors = np.linalg.eigh((normals * w[:, None]).T @ normals)
+    axis = vectors[:, -1]
+    aligned = np.where((normals @ axis)[:, None] < 0, -normals, normals)
+    resultant = (aligned * w[:, None]).sum(axis=0)
+    length = float(np.linalg.norm(resultant))
+    mean = resultant / length
+    count = normals.shape[0]
+    kappa = (count - 1) / (count - length) if count - length > 1e-12 * count else np.inf
+    dip, direction = dip_and_direction(mean)
+    mean = mean if mean[2] >= 0 else -mean
+    aligned = np.where((aligned @ mean)[:, None] < 0, -aligned, aligned)
+    deviation = np.arccos(np.clip(aligned @ mean, -1.0, 1.0))
+    dips = np.arccos(np.clip(np.abs(aligned[:, 2]), 0.0, 1.0))
+    spread = float(np.sqrt(np.sum(w * (dips - dip) ** 2) / (count - 1)))
+    return SetOrientation(dip, direction, float(kappa), spread, True, mean, deviation)
+
+
+def dip_orientation(dips: np.ndarray, dip_direction: float, weights: np.ndarray) -> SetOrientation:
+    """A set known by its dips and one dip direction [rad]: the dips' weighted mean and standard
+    deviation sigma, and the equivalent Fisher K = 1 / sigma^2."""
+    w = _normalised(weights)
+    count = dips.size
+    mean = float(np.sum(w * dips) / count)
+    spread = float(np.sqrt(np.sum(w * (dips - mean) ** 2) / (count - 1)))
+    kappa = 1.0 / spread**2 if spread > 0 else np.inf
+    normal = poles(np.array(mean), np.array(dip_direction))
+    return SetOrientation(mean, dip_direction, float(kappa), spread, False, normal, dips - mean)
+
+
+def fisher_log_likelihood(deviation: np.ndarray, kappa: float) -> float:
+    """Log-likelihood of Fisher's density kappa / (4 pi sinh kappa) exp(kappa cos theta) [1/sr] at the
+    angles `deviation` from the mean pole."""
+    log_norm = np.log(kappa / (2.0 * np.pi)) - kappa - np.log1p(-np.exp(-2.0 * kappa))
+    return float(np.sum(log_norm + kappa * np.cos(deviation)))
+
+
+def fisher_deviation_cdf(theta: np.ndarray, kappa: float) -> np.ndarray:
+    """P(angle from the mean pole <= theta) under Fisher's distribution:
+    (1 - exp(-kappa (1 - cos theta))) / (1 - exp(-2 kappa))."""
+    return -np.expm1(-kappa * (1.0 - np.cos(theta))) / -np.expm1(-2.0 * kappa)
+
+
+def fisher_deviation_pdf(theta: np.ndarray, kappa: float) -> np.ndarray:
+    """Density of the angle theta [1/rad] from the mean pole under Fisher's distribution."""
+    return kappa * np.sin(theta) * np.exp(-kappa * (1.0 - np.cos(theta))) / -np.expm1(-2.0 * kappa)
+
+
+@dataclass(frozen=True)
+class SectionTrace:
+    """A set's trace in a vertical section: its apparent dip [rad], the azimuth [rad] of the section's
+    horizontal direction it dips towards, and the factor by which the true spacing is divided to give
+    the spacing of the traces in the section (normal to them)."""
+
+    apparent_dip: float
+    dips_towards: float
+    spacing_factor: float
+
+
+def section_trace(normal: np.ndarray, section_azimuth: float) -> SectionTrace:
+    """The trace of planes of `normal` in the vertical section along `section_azimuth` [rad]: the
+    normal's projection on the section, m, gives tan(apparent dip) = |m_h| / m_z and the traces'
+    spacing s / |m| for a true spacing s."""
+    along = np.array([np.sin(section_azimuth), np.cos(section_azimuth), 0.0])
+    normal = normal if normal[2] >= 0 else -normal
+    horizontal, vertical = float(normal @ along), float(normal[2])
+    factor = float(np.hypot(horizontal, vertical))
+    if factor < 1e-9:
+        return SectionTrace(np.nan, np.nan, 0.0)
+    towards = section_azimuth if horizontal >= 0 else (section_azimuth + np.pi) % (2.0 * np.pi)
+    return SectionTrace(float(np.arctan2(abs(horizontal), vertical)), float(towards), factor)
+
+
+@dataclass(frozen=True)
+class OrientationGoodness:
+    """How well the set's orientation model fits: its log-likelihood, parameter count and KS p-value
+    (Fisher: the angles from the mean pole, parameters mean direction and K; normal: the dips [deg])."""
+
+    family: str
+    log_likelihood: float
+    parameters: int
+    ks_p_value: float
+    description: str
+
+
+def goodness(orientation: SetOrientation, dips: np.ndarray) -> OrientationGoodness:
+    """Fisher's distribution at the angles from the mean pole, or the normal at the `dips` [rad]."""
+    o = orientation
+    dip_deg, direction_deg, std_deg = np.degrees([o.dip, o.dip_direction, o.dip_std])
+    if o.from_dip_directions:
+        ks = stats.kstest(o.deviation, lambda theta: fisher_deviation_cdf(theta, o.fisher_k)).pvalue
+        text = f"fisher(dip={dip_deg:.2f}, dip_direction={direction_deg:.2f}, K={o.fisher_k:.6g})"
+        return OrientationGoodness(
+            "fisher", fisher_log_likelihood(o.deviation, o.fisher_k), 3, float(ks), text
+        )
+    law = stats.norm(dip_deg, std_deg)
+    values = np.degrees(dips)
+    ks = stats.kstest(values, law.cdf).pvalue
+    text = f"norm(loc={dip_deg:.6g}, scale={std_deg:.6g})"
+    return OrientationGoodness("normal", float(np.sum(law.logpdf(values))), 2, float(ks), text)
