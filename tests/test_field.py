@@ -38,6 +38,7 @@ from bbmc.field.orientation import (
     terzaghi_weights,
 )
 from bbmc.field.survey import read_survey
+from bbmc.rockmass import RockMassConfig, generate
 from stage_runs import ROOT, config_copy, refused, run_stage
 
 FIELD = ROOT / "data" / "field"
@@ -178,25 +179,20 @@ def test_the_fits_table_gives_every_candidate_with_its_aic(out):
 
 
 def test_the_joint_set_block_is_the_scenes_format(out):
+    """The block reads as a rock mass's section azimuth and joint sets (`RockMassConfig`), and a rock
+    mass made from it holds the fitted sets."""
     text = (out / "joint_sets.yaml").read_text()
-    sets = yaml.safe_load(text)["joint_sets"]
+    block = yaml.safe_load(text)
+    sets = block["joint_sets"]
     fits = pd.read_csv(out / "fits.csv")
     fitted = pd.read_csv(out / "sets.csv").set_index("set")
+    assert block["section_azimuth_deg"] == 180
     assert [s["name"] for s in sets] == ["J1", "J2"]
     for entry in sets:
         name = entry["name"]
-        assert set(entry) == {
-            "name",
-            "dip_deg",
-            "section_azimuth_deg",
-            "spacing_m",
-            "trace_length_m",
-            "persistence",
-            "offset_m",
-        }
-        assert entry["dip_deg"]["dip_deg"] == pytest.approx(fitted.loc[name, "dip_deg"], abs=0.05)
-        assert entry["dip_deg"]["fisher_k"] == pytest.approx(fitted.loc[name, "fisher_k"], rel=1e-3)
-        assert entry["section_azimuth_deg"] == 180
+        assert set(entry) == {"name", "orientation", "spacing_m", "trace_length_m", "persistence", "offset_m"}
+        assert entry["orientation"]["dip_deg"] == pytest.approx(fitted.loc[name, "dip_deg"], abs=0.05)
+        assert entry["orientation"]["fisher_k"] == pytest.approx(fitted.loc[name, "fisher_k"], rel=1e-3)
         trace = fits[(fits["set"] == name) & (fits["quantity"] == "trace_length_m") & fits["chosen"]].iloc[0]
         assert entry["trace_length_m"]["distribution"] == trace["distribution"]
         assert entry["trace_length_m"]["mean"] == pytest.approx(trace["mean"], rel=1e-3)
@@ -206,6 +202,14 @@ def test_the_joint_set_block_is_the_scenes_format(out):
         "distribution": "exponential",
         "mean": pytest.approx(0.8 * spacing["mean"], rel=1e-3),
     }
+    profile = {
+        "benches": {"height_m": 5, "face_angle_deg": 70, "berm_width_m": 2, "count": 1},
+        "depth_m": 2,
+        "toe_extent_m": 2,
+        "crest_extent_m": 5,
+    }
+    mass = generate(RockMassConfig.model_validate(block | {"profile": profile}))
+    assert {label.split(".")[-1] for labels in mass.edge_labels for label in labels} >= {"J1", "J2"}
 
 
 # ---------------------------------------------------------------- the corrections, one by one
@@ -316,8 +320,10 @@ def test_a_survey_without_dip_directions_takes_the_sets_mean_one(tmp_path, surve
     sigma = 1.0 / np.sqrt(TRUTH["J1"]["fisher_k"])  # rad: a Fisher set's dip scatter
     assert abs(j1["mean"] - TRUTH["J1"]["dip_deg"]) < 4.0 * np.degrees(sigma) / np.sqrt(n)
     block_sets = yaml.safe_load((folder / "joint_sets.yaml").read_text())["joint_sets"]
-    assert block_sets[0]["dip_deg"]["fisher_k"] == pytest.approx(1.0 / np.radians(j1["std"]) ** 2, rel=1e-3)
-    assert block_sets[0]["dip_deg"]["dip_direction_deg"] == TRUTH["J1"]["dip_direction_deg"]
+    assert block_sets[0]["orientation"]["fisher_k"] == pytest.approx(
+        1.0 / np.radians(j1["std"]) ** 2, rel=1e-3
+    )
+    assert block_sets[0]["orientation"]["dip_direction_deg"] == TRUTH["J1"]["dip_direction_deg"]
 
 
 def test_two_joints_read_at_one_position_are_a_spacing_below_the_reading(tmp_path, survey):

@@ -74,8 +74,10 @@ def line_spacing(spacing: Candidate, persistence: float) -> tuple[float, float]:
 
 
 def joint_sets_yaml(entries: list[BlockEntry], section_azimuth_deg: float, comments: list[str]) -> str:
-    """The block's YAML text, `comments` first (each a line of its own after '# ')."""
+    """The block's YAML text, `comments` first (each a line of its own after '# '): the section's
+    azimuth and the sets, as a rock mass (`bbmc.rockmass.RockMassConfig`) reads them."""
     lines = [f"# {text}" for text in comments]
+    lines.append(f"section_azimuth_deg: {_number(section_azimuth_deg)}   # the face's dip direction")
     lines.append("joint_sets:")
     for entry in entries:
         o = entry.orientation
@@ -83,9 +85,8 @@ def joint_sets_yaml(entries: list[BlockEntry], section_azimuth_deg: float, comme
         trace = entry.trace_length
         lines += [
             f"  - name: {entry.name}",
-            f"    dip_deg: {{dip_deg: {o.dip / units.deg:.1f}, "
+            f"    orientation: {{dip_deg: {o.dip / units.deg:.1f}, "
             f"dip_direction_deg: {o.dip_direction / units.deg:.1f}, fisher_k: {_number(o.fisher_k)}}}",
-            f"    section_azimuth_deg: {_number(section_azimuth_deg)}",
             f"    spacing_m: {_law(entry.spacing.family, mean, std)}",
             f"    trace_length_m: {_law(trace.family, trace.mean, trace.std)}",
             f"    persistence: {_number(entry.persistence)}",
