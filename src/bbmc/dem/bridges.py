@@ -17,9 +17,10 @@ from bbmc.dem.model import Model
 from bbmc.dem.solver import State
 
 
-def has_bridges(model: Model) -> bool:
-    """True when a joint law of the scene breaks into another."""
-    return bool(np.any(model.laws[:, L.BREAKS_INTO] >= 0))
+def failure_mode(slipped: np.ndarray) -> np.ndarray:
+    """0 intact, 1 slipped in shear, 2 failed in tension, from the SLIPPED column (whether or not the
+    share has since become its joint: `layout.BECAME_JOINT`)."""
+    return np.where(slipped == 0.0, 0, 1 + (slipped.astype(np.int64) + 1) % 2)
 
 
 class BridgeLog:
@@ -44,8 +45,9 @@ class BridgeLog:
                 row = self.rows[key] = self._new_row(contacts[c], centre[c])
             broken = slipped[c] != 0.0
             row["shares_broken"] = max(row["shares_broken"], int(broken.sum()))
-            row["in_shear"] = max(row["in_shear"], int((slipped[c] == L.SLIPPED_IN_SHEAR).sum()))
-            row["in_tension"] = max(row["in_tension"], int((slipped[c] == L.FAILED_IN_TENSION).sum()))
+            mode = failure_mode(slipped[c])
+            row["in_shear"] = max(row["in_shear"], int((mode == 1).sum()))
+            row["in_tension"] = max(row["in_tension"], int((mode == 2).sum()))
             if broken.any() and row["first_broken_by_step"] < 0:
                 row["first_broken_by_step"], row["first_broken_by_time_s"] = step, time
             if broken.all() and row["broken_through_by_step"] < 0:

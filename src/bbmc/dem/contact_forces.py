@@ -33,7 +33,6 @@ from bbmc.dem.layout import (
     AFTER_SLIP_ZERO,
     BLOCK_A,
     BLOCK_B,
-    BREAKS_INTO,
     CLOSED,
     COH,
     CX,
@@ -50,21 +49,12 @@ from bbmc.dem.layout import (
     KS,
     LAW_SN,
     LENGTH,
-    NORMAL_CONSTANT,
-    NORMAL_LAW,
-    P_COH,
-    P_KN,
-    P_KS,
-    P_PHI,
     P_STRENGTH_DIVISOR,
     PATH,
-    SHEAR_CONSTANT,
-    SHEAR_LAW,
     SIZE,
     SLIPPED,
     SLIPPED_IN_SHEAR,
     SN,
-    STRENGTH_CONSTANT,
     STRENGTH_LAW,
     STRENGTH_MOBILIZED,
     TAN_DILATION,
@@ -137,28 +127,8 @@ def _normal_share(subs, s, u_mid, slope, half, inv_length, divisor):
     return closed * inv_length, mean, 0.5 * (lo + hi), couple
 
 
-@numba.njit(cache=True)
-def _break(subs, s, joint, laws, params):
-    """A share of intact rock (a rock bridge, a fictitious joint) that has just slipped or failed in
-    tension becomes a share of joint type `joint`, brittlely: it takes that joint's stiffness, friction
-    and cohesion (none where the joint loses it at slip), and no tensile strength. A stress-dependent
-    joint gives its own K_n, K_s, c and phi at the next law update (the share keeps the intact friction,
-    with no cohesion, until then)."""
-    p = params[joint]
-    subs[s, TEN] = 0.0
-    if laws[joint, STRENGTH_LAW] == STRENGTH_CONSTANT:
-        subs[s, TANPHI] = math.tan(p[P_PHI])
-        subs[s, COH] = 0.0 if laws[joint, AFTER_SLIP] == AFTER_SLIP_ZERO else p[P_COH]
-    else:
-        subs[s, COH] = 0.0
-    if laws[joint, NORMAL_LAW] == NORMAL_CONSTANT:
-        subs[s, KN] = p[P_KN]
-    if laws[joint, SHEAR_LAW] == SHEAR_CONSTANT:
-        subs[s, KS] = p[P_KS]
-
-
 @numba.njit(cache=True, inline="always")
-def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates, breaks, laws, params):
+def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates):
     """The shear of one sub-contact's share (module docstring), in place, after its normal stress
     (`_normal_share`: closed fraction `closed`, mean sigma_n `sn` over the closed part); its shear and
     tensile strengths divided by `divisor` (strength reduction; 1 otherwise).
@@ -171,10 +141,7 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
     While it carried normal stress (`was_closed`) it accumulates its shear path |d u_s|, and its
     dilation tan(d_mob) d|u_s|: the asperities ride up as the joint moves away from where it started
     and down as it moves back (never below 0); the law sees the geometric closure plus the dilation so
-    far, from the next step (`dilates`: the law has any; the others skip its work).
-
-    A share of a joint type that breaks (`breaks`: the type it breaks into, -1 for none; an intact rock
-    bridge) becomes that joint at its first slip or tensile failure (`_break`)."""
+    far, from the next step (`dilates`: the law has any; the others skip its work)."""
     if was_closed:
         subs[s, PATH] += abs(dus)
         if dilates:
@@ -188,8 +155,6 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
             subs[s, COH] = 0.0
             subs[s, SLIPPED] = FAILED_IN_TENSION
             subs[s, LAW_SN] = math.nan
-            if breaks >= 0:
-                _break(subs, s, breaks, laws, params)
         return
     tau = subs[s, TAU] + subs[s, KS] * dus
     strength = max(subs[s, COH] + sn * subs[s, TANPHI], 0.0) / divisor
@@ -201,15 +166,13 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
             subs[s, TEN] = 0.0
             if after_slip == AFTER_SLIP_ZERO:
                 subs[s, COH] = 0.0
-            if breaks >= 0:
-                _break(subs, s, breaks, laws, params)
     subs[s, SN] = sn
     subs[s, TAU] = tau
     subs[s, CLOSED] = closed
 
 
 @numba.njit(cache=True)
-def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, dry):
+def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt):
     """Update every sub-contact's stresses and add the contact forces and moments to the blocks.
 
     Each contact's common line comes from `contact_frame`; a contact whose edges no longer face each
@@ -223,9 +186,6 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
     displacement varies along the line with m alone. The shares' forces are summed per contact and
     added to each block once, with their moments P x f = -s f_n - m f_s about the origin moved to the
     block's centroid.
-
-    `dry` (per edge): edges of intact rock, which joint water does not reach; a contact of intact rock
-    whose every share has broken lets the water in (both its edges become wet).
     """
     size = blocks[:, SIZE]
     for c in range(contacts.shape[0]):
@@ -242,7 +202,6 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
         joint = contacts[c, JOINT_TYPE]
         after_slip = laws[joint, AFTER_SLIP]
         divisor = params[joint, P_STRENGTH_DIVISOR]
-        breaks = laws[joint, BREAKS_INTO]
         dilates = laws[joint, STRENGTH_LAW] == STRENGTH_MOBILIZED
         span = hi - lo
         per_span = 1.0 / span
@@ -273,9 +232,7 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
             f += centre * per_span  # the closed part's middle, where the share's forces act
             along, middle = lo + f * span, m_lo + f * m_rise
             dus = (slip_rate + (wb - wa) * middle) * dt
-            _shear_share(
-                subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates, breaks, laws, params
-            )
+            _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates)
             subs[s, LENGTH] = length
             subs[s, CX] = along * tx + middle * nx
             subs[s, CY] = along * ty + middle * ny
@@ -284,13 +241,6 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
             fx_sum += fn * nx - fs * tx
             fy_sum += fn * ny - fs * ty
             moment -= along * fn + middle * fs + couple
-        if breaks >= 0 and dry[ea]:
-            through = True
-            for s in range(first, first + n_sub):
-                through = through and subs[s, SLIPPED] != 0.0
-            if through:
-                dry[ea] = False
-                dry[eb] = False
         blocks[b, FX] += fx_sum
         blocks[b, FY] += fy_sum
         blocks[b, FM] += moment - (blocks[b, X] * fy_sum - blocks[b, Y] * fx_sum)

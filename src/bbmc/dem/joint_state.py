@@ -14,8 +14,11 @@ import numba
 from bbmc.dem.layout import (
     AFTER_SLIP,
     AFTER_SLIP_ZERO,
+    BECAME_JOINT,
     BREAKS_INTO,
     COH,
+    EDGE_A,
+    EDGE_B,
     JOINT_TYPE,
     KN,
     KS,
@@ -224,3 +227,46 @@ def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
                 subs[s, TANPHI] = math.tan(params[joint, P_PHI])
                 if laws[joint, AFTER_SLIP] != AFTER_SLIP_ZERO:
                     subs[s, COH] = params[joint, P_COH]
+
+
+@numba.njit(cache=True)
+def _become_joint(subs, s, joint, laws, params):
+    """A share of intact rock (a rock bridge, a fictitious joint) that has slipped or failed in tension
+    becomes a share of joint type `joint`, brittlely: that joint's stiffness, friction and cohesion (none
+    where the joint loses it at slip), and no tensile strength. A stress-dependent joint gives its own
+    K_n, K_s, c and phi at the next law update (the share keeps the intact friction, with no cohesion,
+    until then)."""
+    p = params[joint]
+    subs[s, TEN] = 0.0
+    subs[s, SLIPPED] += BECAME_JOINT
+    subs[s, LAW_SN] = math.nan
+    if laws[joint, STRENGTH_LAW] == STRENGTH_CONSTANT:
+        subs[s, TANPHI] = math.tan(p[P_PHI])
+        subs[s, COH] = 0.0 if laws[joint, AFTER_SLIP] == AFTER_SLIP_ZERO else p[P_COH]
+    else:
+        subs[s, COH] = 0.0
+    if laws[joint, NORMAL_LAW] == NORMAL_CONSTANT:
+        subs[s, KN] = p[P_KN]
+    if laws[joint, SHEAR_LAW] == SHEAR_CONSTANT:
+        subs[s, KS] = p[P_KS]
+
+
+@numba.njit(cache=True)
+def break_bridges(contacts, subs, n_sub, laws, params, dry):
+    """After the contact forces of a step: every share of intact rock (a joint type with BREAKS_INTO)
+    that slipped or failed in tension in it becomes the joint it breaks into (`_become_joint`), from the
+    next step; a contact of intact rock whose every share has broken lets joint water in (its two
+    edges are no longer `dry`). Run only by scenes that have intact rock: the others pay nothing."""
+    for c in range(contacts.shape[0]):
+        joint = laws[contacts[c, JOINT_TYPE], BREAKS_INTO]
+        if joint < 0:
+            continue
+        through = True
+        for s in range(c * n_sub, (c + 1) * n_sub):
+            state = subs[s, SLIPPED]
+            if state != 0.0 and state < BECAME_JOINT + 0.5:
+                _become_joint(subs, s, joint, laws, params)
+            through = through and state != 0.0
+        if through:
+            dry[contacts[c, EDGE_A]] = False
+            dry[contacts[c, EDGE_B]] = False

@@ -14,7 +14,7 @@ import math
 import numba
 
 from bbmc.dem.contact_forces import contact_forces
-from bbmc.dem.joint_state import stresses_moved, update_joint_laws
+from bbmc.dem.joint_state import break_bridges, stresses_moved, update_joint_laws
 from bbmc.dem.layout import (
     DONE,
     DT,
@@ -58,6 +58,7 @@ def cycle(
     water_surface,
     water_unit_weight,
     dry_edges,
+    bridges,
     damping,
     search_distance,
     time_step_mode,
@@ -67,7 +68,8 @@ def cycle(
     """Run up to n_steps cycles. Returns (cycles done, DONE | SEARCH_NEEDED | STEP_ABOVE_CRITICAL).
 
     Water pressure (`water_surface`, `water_unit_weight`; `bbmc.dem.water`) is added to the loads, on
-    every edge but the `dry_edges` of intact rock.
+    every edge but the `dry_edges` of intact rock; with `bridges` (the scene has intact rock that breaks
+    into a joint) each step ends with `break_bridges`.
     time_step_mode: 0 automatic (safety x critical, recomputed after each law update), 1 fixed (the
     run stops with STEP_ABOVE_CRITICAL once the fixed step exceeds the critical one), 2 density
     scaling (fixed step, inertial masses rescaled after each law update). The laws are updated every
@@ -113,7 +115,9 @@ def cycle(
         add_water_loads(
             blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight, dry_edges
         )
-        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, dry_edges)
+        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt)
+        if bridges:
+            break_bridges(contacts, subs, n_sub, laws, params, dry_edges)
         moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving)
         update_vertices(blocks, vertex_start, local, world, moving)
         clock[STEP] += 1.0

@@ -40,6 +40,7 @@ COH, TANPHI, TEN = 6, 7, 8  # cohesion [Pa], tan(friction angle) [1], tensile st
 LENGTH = 9  # length of this sub-contact's share of the contact's overlap [m] (0: contact inactive)
 SLIPPED = 10  # 0 intact; SLIPPED_IN_SHEAR once it has slipped, FAILED_IN_TENSION once its bond broke
 SLIPPED_IN_SHEAR, FAILED_IN_TENSION = 1.0, 2.0
+BECAME_JOINT = 2.0  # added to SLIPPED where a share of intact rock has become its joint (3, 4)
 CX, CY = 11, 12  # position [m]
 LAW_SN, LAW_TAU = (
     13,

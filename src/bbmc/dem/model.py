@@ -108,6 +108,11 @@ class Model:
         return np.all(held, axis=1)
 
     @property
+    def has_bridges(self) -> bool:
+        """True when a joint law breaks into another (intact rock: `joint_state.break_bridges`)."""
+        return bool(np.any(self.laws[:, L.BREAKS_INTO] >= 0))
+
+    @property
     def variable_laws(self) -> bool:
         return bool(np.any(self.laws[:, :3] != 0))
 

@@ -165,7 +165,6 @@ def search_contacts(model: Model, state: State) -> None:
         model.laws,
         model.params,
         0.0,
-        state.dry_edges,
     )
     state.contacts, state.subs = contacts, subs
     b[:, [L.XR, L.YR, L.THR]] = b[:, [L.X, L.Y, L.TH]]
@@ -339,6 +338,7 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             model.water_surface,
             model.water_unit_weight,
             state.dry_edges,
+            model.has_bridges,
             solver.damping,
             model.search_margin,
             TIME_STEP_MODES[ts.mode],

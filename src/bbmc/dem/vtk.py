@@ -33,6 +33,7 @@ import numpy as np
 
 from bbmc import units
 from bbmc.dem import layout as L
+from bbmc.dem.bridges import failure_mode
 from bbmc.dem.model import Model
 
 
@@ -97,7 +98,7 @@ def contact_mesh(
             "sigma_n_MPa": subs[active, L.SN] / units.MPa,
             "tau_MPa": subs[active, L.TAU] / units.MPa,
             "slipped": (subs[active, L.SLIPPED] > 0).astype(np.int64),
-            "failure": subs[active, L.SLIPPED].astype(np.int64),
+            "failure": failure_mode(subs[active, L.SLIPPED]),
             "law_id": law,
         },
     )

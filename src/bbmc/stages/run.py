@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from bbmc.dem.bridges import BridgeLog, has_bridges
+from bbmc.dem.bridges import BridgeLog
 from bbmc.dem.figures import bridges_figure, history_figure, scene_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
@@ -40,7 +40,7 @@ def run(
     model: Model = build_model(scene, config_path)
     initial = initial_state(model).world.copy()
     series = Series(model) if vtk else None
-    log = BridgeLog(model) if has_bridges(model) else None
+    log = BridgeLog(model) if model.has_bridges else None
     observers = [o for o in (series, log) if o is not None]
 
     def on_record(state: State) -> None:
