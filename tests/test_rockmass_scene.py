@@ -95,3 +95,27 @@ def test_a_realization_on_a_key_that_is_no_seed_is_refused(tmp_path):
     outcome = CliRunner().invoke(main, ["sweep", str(path), "--results", str(tmp_path / "out")])
     assert outcome.exit_code == 2
     assert "variables.0.distribution" in outcome.output and "no seed" in outcome.output
+
+
+def test_a_tension_crack_filled_in_percent_gives_hoek_and_brays_water_table():
+    """50 % of an 8 m crack 6 m behind the crest of a 20 m slope: the water table runs from the toe to
+    4 m above the crack's foot, which is Hoek & Bray's (and `planar_scene`'s) line from the toe to the
+    water in the crack."""
+    scene = _scene()
+    mass = scene["blocks"][0]["rock_mass"]
+    mass["profile"]["tension_crack"] = {"distance_behind_crest_m": 6, "depth_m": 8}
+    scene["water"] = {"tension_crack_fill_percent": 50}
+    model = build_model(api.load_scene(scene), SCENE)
+    crest = api.load_scene(scene).blocks[0].rock_mass.profile.surface()[-1]
+    expected = [[0.0, 0.0], [crest[0] + 6.0, crest[1] - 4.0]]
+    assert np.allclose(model.water_surface, expected, atol=1e-12)
+    assert model.water_unit_weight == pytest.approx(9810.0)
+
+
+def test_a_filling_without_a_crack_is_refused(tmp_path):
+    scene = _scene()
+    scene["water"] = {"tension_crack_fill_percent": 50}
+    path = tmp_path / "dry.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(tmp_path / "out")])
+    assert outcome.exit_code == 2 and "water.tension_crack_fill_percent" in outcome.output

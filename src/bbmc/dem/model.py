@@ -29,6 +29,7 @@ from bbmc.joint.derived import full_joint
 from bbmc.joint.model import SIGMA_REF
 from bbmc.rockmass.generate import GeometryError
 from bbmc.rockmass.generate import generate as generate_rock_mass
+from bbmc.rockmass.profile import crack_water_table
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 SHEAR_CODES = {
@@ -199,6 +200,24 @@ def _shapes(
         shapes = turned
     fixed = [sorted(set(h) | set(entry.fix)) for h in held]
     return shapes, fixed, labels, straight or [[] for _ in shapes]
+
+
+def _water_table(scene: Scene, path: Path) -> np.ndarray:
+    """The phreatic surface [m]: as given, or from the filling of a rock mass's tension crack
+    (`bbmc.rockmass.profile.crack_water_table`); a level line at 0 without water (unit weight 0)."""
+    water = scene.water
+    if water is None:
+        return np.array([[0.0, 0.0], [1.0, 0.0]])
+    if water.phreatic_surface_m is not None:
+        return np.array(water.phreatic_surface_m, dtype=float)
+    masses = [entry.rock_mass for entry in scene.blocks if entry.rock_mass is not None]
+    cracked = [m.profile for m in masses if m.profile.tension_crack is not None]
+    if not cracked:
+        raise _error(path, "water.tension_crack_fill_percent", "no rock_mass with a tension_crack to fill")
+    profile = cracked[0]
+    crack = profile.tension_crack
+    fill = water.tension_crack_fill_percent / 100.0
+    return crack_water_table(profile.surface(), crack.distance_behind_crest_m, crack.depth_m, fill)
 
 
 def _edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[str]:
@@ -474,7 +493,7 @@ def build_model(scene: Scene, path: Path) -> Model:
         load_edge=load_edge,
         search_margin=margin,
         monitors=monitors,
-        water_surface=np.array(water.phreatic_surface_m if water else [[0.0, 0.0], [1.0, 0.0]], dtype=float),
+        water_surface=_water_table(scene, path),
         water_unit_weight=water.unit_weight_kN_m3 * 1e3 if water else 0.0,
     )
 

@@ -365,11 +365,15 @@ class Water(Section):
     0 above it. It pushes on every block edge below the surface, both faces of a joint alike; the
     contact stresses (and so the joint laws) are the effective ones (`bbmc.dem.water`)."""
 
-    phreatic_surface_m: Annotated[list[Pair], Field(min_length=2)]  # x increasing; level beyond its ends
+    phreatic_surface_m: Annotated[list[Pair], Field(min_length=2)] | None = None  # x increasing
+    tension_crack_fill_percent: Annotated[float, Field(ge=0, le=100)] | None = None  # a rock mass's crack
     unit_weight_kN_m3: Positive = 9.81
 
     @model_validator(mode="after")
     def _increasing(self) -> Water:
+        _exactly_one(self, ("phreatic_surface_m", "tension_crack_fill_percent"), "water table")
+        if self.phreatic_surface_m is None:
+            return self
         x = [point[0] for point in self.phreatic_surface_m]
         if any(b <= a for a, b in itertools.pairwise(x)):
             raise ValueError("phreatic_surface_m: the points' x must increase strictly")

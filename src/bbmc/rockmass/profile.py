@@ -92,3 +92,15 @@ def first_crossing(
             if point is not None:
                 return i, j, point
     return None
+
+
+def crack_water_table(
+    surface: np.ndarray, behind_crest: float, crack_depth: float, fill: float
+) -> np.ndarray:
+    """The phreatic surface [m] of a tension crack filled to `fill` (0 to 1) of its depth: straight from
+    the toe (the surface's first point) to the water in the crack, level beyond both (Hoek & Bray's
+    assumption, RocPlane's percent filling): on a plane from the crack's foot to the toe the pressure is
+    triangular, gamma_w z_w at the foot, 0 at the toe."""
+    toe, crest = surface[0], surface[-1]
+    level = crest[1] - crack_depth * (1.0 - fill)
+    return np.array([[toe[0], toe[1]], [crest[0] + behind_crest, level]])
