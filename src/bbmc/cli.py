@@ -1,7 +1,8 @@
 """The `bbmc` command line: each command loads one config, runs its stage, writes results atomically.
 
 Any bad input ends with one line on stderr naming the file and the key (or line), exit status 2, and
-nothing written.
+nothing written. Ctrl-C stops any command within a fraction of a second with one line, exit status 130,
+and nothing written (a sweep keeps its finished batches).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from bbmc import __version__
 from bbmc.config import ConfigError, load_config
 from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
+from bbmc.program import INTERRUPTED
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
@@ -35,9 +37,16 @@ from bbmc.stages import sweep as sweep_stage
 def _reported(name: str) -> Iterator[None]:
     """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
     config, an input file, an unusable time step), 3 for a run that went unstable, 1 for a failed
-    write."""
+    write, 130 for Ctrl-C (what a sweep keeps, if it says so; nothing else is written)."""
     try:
         yield
+    except (KeyboardInterrupt, SystemError) as error:
+        interrupt = _interrupt_behind(error)
+        if interrupt is None:
+            raise
+        kept = f"{interrupt}; nothing else written" if str(interrupt) else "nothing written"
+        click.echo(f"bbmc {name}: interrupted: {kept}", err=True)
+        sys.exit(INTERRUPTED)
     except ConfigError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
         sys.exit(2)
@@ -47,6 +56,16 @@ def _reported(name: str) -> Iterator[None]:
     except OSError as error:
         click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
         sys.exit(1)
+
+
+def _interrupt_behind(error: BaseException | None) -> KeyboardInterrupt | None:
+    """The Ctrl-C behind an error, if any: numba turns a KeyboardInterrupt raised in Python code that a
+    kernel calls back (to unpickle a constant) into a SystemError caused by it."""
+    while error is not None:
+        if isinstance(error, KeyboardInterrupt):
+            return error
+        error = error.__cause__ or error.__context__
+    return None
 
 
 @contextmanager
