@@ -1,3 +1,3 @@
-from bbmc.cli import main
+from bbmc.program import run
 
-main()
+run()

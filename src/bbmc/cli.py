@@ -3,6 +3,8 @@
 Every command takes its file as an argument or through --config (the same). Any bad input ends with
 one line on stderr naming the file and the key (or line), exit status 2, and nothing written. A value
 outside its plausible range (`bbmc.plausibility`) is a one-line warning, or with --strict an error.
+Ctrl-C stops any command within a fraction of a second with one line, exit status 130, and nothing
+written (a sweep keeps its finished batches).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from bbmc.config import ConfigError, load_config
 from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
 from bbmc.plausibility import ImplausibleValue
+from bbmc.program import INTERRUPTED
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
@@ -40,8 +43,9 @@ from bbmc.stages import sweep as sweep_stage
 def _reported(name: str, strict: bool = False) -> Iterator[None]:
     """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
     config, an input file, an unusable time step), 3 for a run that went unstable, 4 for a study in
-    which no sample gave a result (its first errors, a few lines), 1 for a failed write. An implausible
-    value of a config loaded meanwhile is one warning line (each once), or with `strict` bad input."""
+    which no sample gave a result (its first errors, a few lines), 1 for a failed write, 130 for Ctrl-C
+    (what a sweep keeps, if it says so; nothing else is written). An implausible value of a config
+    loaded meanwhile is one warning line (each once), or with `strict` bad input."""
     shown: set[str] = set()
     others = warnings.showwarning
 
@@ -57,6 +61,13 @@ def _reported(name: str, strict: bool = False) -> Iterator[None]:
             warnings.simplefilter("error" if strict else "always", ImplausibleValue)
             warnings.showwarning = show
             yield
+    except (KeyboardInterrupt, SystemError) as error:
+        interrupt = _interrupt_behind(error)
+        if interrupt is None:
+            raise
+        kept = f"{interrupt}; nothing else written" if str(interrupt) else "nothing written"
+        click.echo(f"bbmc {name}: interrupted: {kept}", err=True)
+        sys.exit(INTERRUPTED)
     except ImplausibleValue as error:
         click.echo(f"bbmc {name}: error: {error} [--strict]", err=True)
         sys.exit(2)
@@ -72,6 +83,16 @@ def _reported(name: str, strict: bool = False) -> Iterator[None]:
     except OSError as error:
         click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
         sys.exit(1)
+
+
+def _interrupt_behind(error: BaseException | None) -> KeyboardInterrupt | None:
+    """The Ctrl-C behind an error, if any: numba turns a KeyboardInterrupt raised in Python code that a
+    kernel calls back (to unpickle a constant) into a SystemError caused by it."""
+    while error is not None:
+        if isinstance(error, KeyboardInterrupt):
+            return error
+        error = error.__cause__ or error.__context__
+    return None
 
 
 @contextmanager

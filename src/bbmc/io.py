@@ -6,9 +6,12 @@ import hashlib
 import json
 import platform
 import shutil
+import signal
 import subprocess
 import tempfile
-from collections.abc import Callable, Mapping
+import threading
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -123,7 +126,7 @@ def write_stage(out_dir: Path, result: StageResult, record: Mapping[str, object]
     """Write tables (CSV), figures (PNG) and provenance.json into `out_dir`, all or nothing.
 
     Everything is written into a hidden sibling folder first, which then replaces `out_dir`; a failure
-    on the way leaves the previous results untouched and no partial folder behind.
+    or a Ctrl-C on the way leaves the previous results untouched and no partial folder behind.
     """
     out_dir.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.", dir=out_dir.parent))
@@ -141,14 +144,33 @@ def write_stage(out_dir: Path, result: StageResult, record: Mapping[str, object]
                 target.write_text(content)
         (staging / "provenance.json").write_text(json.dumps(record, indent=2) + "\n")
         written = sorted(str(p.relative_to(staging)) for p in staging.rglob("*") if p.is_file())
-        if out_dir.exists():
-            retired = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old.", dir=out_dir.parent))
-            out_dir.rename(retired / out_dir.name)
-            staging.rename(out_dir)
-            shutil.rmtree(retired)
-        else:
-            staging.rename(out_dir)
+        with _interrupt_held() as held:
+            if out_dir.exists():
+                retired = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old.", dir=out_dir.parent))
+                out_dir.rename(retired / out_dir.name)
+                staging.rename(out_dir)
+                shutil.rmtree(retired)
+            else:
+                staging.rename(out_dir)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
+    if held:
+        raise KeyboardInterrupt(f"the results were complete when it came, in {out_dir}/")
     return [out_dir / name for name in written]
+
+
+@contextmanager
+def _interrupt_held() -> Iterator[list[int]]:
+    """Hold a Ctrl-C (SIGINT) back while the block runs: the renames that put a new results folder in
+    place of the old one must not stop between them. Yields the list of signals held, for the caller
+    to act on. Handlers can be set only in the main thread: elsewhere the block runs as it is."""
+    held: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield held
+        return
+    previous = signal.signal(signal.SIGINT, lambda signum, _frame: held.append(signum))
+    try:
+        yield held
+    finally:
+        signal.signal(signal.SIGINT, previous)

@@ -9,13 +9,24 @@
   for).
 * `task_overhead`: per-task time of an empty batch (one planar sample) on the local pool and on the
   LocalCluster: what a task costs beyond its work.
+
+The "LocalCluster" is a dask scheduler in this process and its worker processes (`dask worker`) in a
+session of their own, so that a terminal's Ctrl-C reaches this process alone: the interrupted study
+cancels its tasks (`bbmc.sweep.runner`) and the workers are ended with the cluster, whatever they were
+doing (loading the kernels, which no Ctrl-C could stop). An interrupted study's batches go with its
+temporary folder.
 """
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import pandas as pd
@@ -25,8 +36,9 @@ from bbmc.slope import safety
 from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design
 from bbmc.sweep.models import PlanarModel, SceneModel
-from bbmc.sweep.runner import run_batches
+from bbmc.sweep.runner import StudyInterrupted, run_batches
 
+SOURCE = Path(__file__).resolve().parents[2]  # src/: the package, whether installed or not
 PLANAR = {
     "kind": "planar",
     "height_m": 20.0,
@@ -57,9 +69,38 @@ def _timed(action: Callable[[], object]) -> float:
 
 
 def _study(model, table: pd.DataFrame, batch: int, **where) -> float:
-    """Wall time of a whole study into a fresh store."""
+    """Wall time of a whole study into a fresh store (thrown away, even when interrupted)."""
     with tempfile.TemporaryDirectory() as folder:
-        return _timed(lambda: run_batches(model, table, Path(folder), batch, **where))
+        try:
+            return _timed(lambda: run_batches(model, table, Path(folder), batch, **where))
+        except StudyInterrupted:
+            raise KeyboardInterrupt from None  # no batch is kept: its folder goes
+
+
+@contextmanager
+def _cluster(workers: int) -> Iterator[str]:
+    """A dask scheduler here and `workers` single-threaded worker processes in a session of their own
+    (out of reach of a terminal's Ctrl-C), killed when the block ends; yields the scheduler's address."""
+    from distributed import Client, LocalCluster  # here: only this part of the bench needs dask
+
+    env = os.environ | {"PYTHONPATH": os.pathsep.join([str(SOURCE), os.environ.get("PYTHONPATH", "")])}
+    with LocalCluster(n_workers=0, dashboard_address=None) as scheduler:
+        address = scheduler.scheduler_address
+        command = [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", str(workers)]
+        process = subprocess.Popen(
+            [*command, "--nthreads", "1", "--no-dashboard"],
+            env=env,
+            start_new_session=True,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        try:
+            with Client(address) as client:
+                client.wait_for_workers(workers, timeout=300)
+            yield address
+        finally:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
 
 
 def _dem_row(what: str, model, table: pd.DataFrame) -> dict:
@@ -72,8 +113,6 @@ def _dem_row(what: str, model, table: pd.DataFrame) -> dict:
 def sweep_cost_table(
     le_samples: int, dem_samples: int, repeats: int, slope_config: Path, progress: Callable[[str], None]
 ) -> pd.DataFrame:
-    from distributed import LocalCluster  # here: only this part of the bench needs dask
-
     rows = []
     planar, inputs = PlanarModel(PLANAR), _planar_design(le_samples)
     progress("sweep cost: limit-equilibrium throughput")
@@ -98,8 +137,7 @@ def sweep_cost_table(
     two = _study(slope, slope_design, 1, workers=2)
     empty = _planar_design(200)
     local_overhead = _study(planar, empty, 1, workers=2) / len(empty)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True) as cluster:
-        address = cluster.scheduler_address
+    with _cluster(2) as address:
         _study(slope, slope_design.iloc[:2], 1, scheduler=address)  # the workers load the kernels
         on_cluster = _study(slope, slope_design, 1, scheduler=address)
         cluster_overhead = _study(planar, empty, 1, scheduler=address) / len(empty)

@@ -3,12 +3,14 @@
 The kernels run whole chunks of cycles; this module only acts between chunks: at record steps
 (monitors, stop condition, interpenetration), after a block has moved far enough to need a new
 contact search, and when a run goes wrong. Faults stop the run with a `SimulationError` whose message
-is one line naming the step and the likely cause; nothing is written then.
+is one line naming the step and the likely cause; nothing is written then. Each chunk runs in kernel
+calls of about `pace.CALL_SECONDS` (`bbmc.dem.pace`), so that Ctrl-C stops a run at once, at any size.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,6 +24,7 @@ from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
 from bbmc.dem.detection import candidate_pairs, facing_edges, vertex_penetration
 from bbmc.dem.model import Model, build_model
+from bbmc.dem.pace import Pace
 from bbmc.dem.scene import Scene
 from bbmc.dem.verdict import Trend
 from bbmc.kernel_cache import announce_engine_compile
@@ -56,6 +59,9 @@ class State:
     searches: int = 0
     dt_range: list[float] = field(default_factory=lambda: [math.inf, 0.0])
     largest_overlap: float = 0.0
+    # the sizes of kernel calls (shared by copies of a state: they measure the machine, not the state)
+    cycle_pace: Pace = field(default_factory=Pace)
+    search_pace: Pace = field(default_factory=Pace)
 
     @property
     def step(self) -> int:
@@ -117,15 +123,7 @@ def search_contacts(model: Model, state: State) -> None:
     b, economy = state.blocks, model.economy
     immobile = state.immobile if economy.skip_immobile_pairs else np.zeros(len(b), dtype=bool)
     pairs = candidate_pairs(state.world, model.vertex_start, immobile, model.search_margin)
-    found, normal = facing_edges(
-        pairs,
-        state.world,
-        model.vertex_start,
-        model.vertex_next,
-        b[:, L.SIZE],
-        model.search_margin,
-        economy.bound_depth_when_needed,
-    )
+    found, normal = _facing_edges(model, state, pairs)
     n_vertices, n_sub = len(model.local), state.n_sub
     old_keys = state.contacts[:, L.EDGE_A] * n_vertices + state.contacts[:, L.EDGE_B]
     new_keys = found[:, 0] * n_vertices + found[:, 1]
@@ -169,6 +167,30 @@ def search_contacts(model: Model, state: State) -> None:
     state.contacts, state.subs = contacts, subs
     b[:, [L.XR, L.YR, L.THR]] = b[:, [L.X, L.Y, L.TH]]
     state.searches += 1
+
+
+def _facing_edges(model: Model, state: State, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`detection.facing_edges` of the block pairs, in calls paced by `state.search_pace`: each pair's
+    edges are found alone, so the pieces joined are the edges of one call, in the same order."""
+    pieces, start = [], 0
+    while True:
+        stop = start + state.search_pace.take(len(pairs) - start)
+        started = time.perf_counter()
+        pieces.append(
+            facing_edges(
+                pairs[start:stop],
+                state.world,
+                model.vertex_start,
+                model.vertex_next,
+                state.blocks[:, L.SIZE],
+                model.search_margin,
+                model.economy.bound_depth_when_needed,
+            )
+        )
+        state.search_pace.timed(stop - start, time.perf_counter() - started)
+        start = stop
+        if start == len(pairs):
+            return np.concatenate([f for f, _ in pieces]), np.concatenate([n for _, n in pieces])
 
 
 def _set_time_step(model: Model, state: State) -> None:
@@ -307,11 +329,30 @@ def prepare(model: Model) -> State:
 def advance(model: Model, state: State, n_steps: int) -> None:
     """Run n_steps cycles, searching contacts whenever blocks have moved enough, and stop the run
     with a `SimulationError` if it goes wrong."""
-    solver, ts = model.scene.solver, model.scene.solver.time_step
     end = state.step + n_steps
     while state.step < end:
-        _, status = kernels.cycle(
-            end - state.step,
+        status = _cycles(model, state, end - state.step)
+        _check_health(model, state)
+        if status == L.STEP_ABOVE_CRITICAL:
+            _above_critical(model, state)
+        if status == L.SEARCH_NEEDED:
+            search_contacts(model, state)
+            _set_time_step(model, state)
+            if _moved_beyond_stop(model, state):
+                break  # blocks move at most half the search margin between searches: so does the overshoot
+        _note_time_step(state)
+
+
+def _cycles(model: Model, state: State, n_steps: int) -> int:
+    """`kernels.cycle` for up to n_steps cycles, in calls paced by `state.cycle_pace`, until they are
+    done or a call returns another status; returns that status. A cut between calls changes nothing:
+    the cycle's whole state is in its arrays."""
+    solver, ts = model.scene.solver, model.scene.solver.time_step
+    left = n_steps
+    while True:
+        started = time.perf_counter()
+        done, status = kernels.cycle(
+            state.cycle_pace.take(left),
             state.clock,
             state.blocks,
             state.dof,
@@ -345,15 +386,10 @@ def advance(model: Model, state: State, n_steps: int) -> None:
             ts.safety_factor,
             ts.step_s or math.inf,
         )
-        _check_health(model, state)
-        if status == L.STEP_ABOVE_CRITICAL:
-            _above_critical(model, state)
-        if status == L.SEARCH_NEEDED:
-            search_contacts(model, state)
-            _set_time_step(model, state)
-            if _moved_beyond_stop(model, state):
-                break  # blocks move at most half the search margin between searches: so does the overshoot
-        _note_time_step(state)
+        state.cycle_pace.timed(done, time.perf_counter() - started)
+        left -= done
+        if status != L.DONE or left == 0:
+            return status
 
 
 def simulate(

@@ -11,20 +11,32 @@ finished batch on disk.
   scheduler) loses at most the batches in flight.
 * Locally: a pool of `workers` processes (default: every core). On a cluster (`scheduler` given):
   `distributed.Client(scheduler)`; a worker lost mid-task has its task rerun elsewhere by the
-  scheduler, and each batch is written once, by this process, when its result arrives. Tasks are
-  named by their store and first sample, so two studies on one scheduler never share a task's result.
+  scheduler, and each batch is written once, by this process, when its result arrives.
+* Ctrl-C (or SIGINT to this process alone) stops the study at once with `StudyInterrupted`, which says
+  how many samples are done and kept. Locally, the workers ignore SIGINT (a terminal sends it to the
+  whole process group: a worker acting on it would print its own traceback), and this process ends
+  them (SIGTERM), running batches and all. On a cluster, this process cancels its tasks and
+  disconnects; the scheduler and its workers stay up for the next study, and a batch running on a
+  worker ends at its next kernel call (`bbmc.dem.pace.stopped_when`), freeing the worker. A task's
+  key holds the study's digest (the store's name), so that one study's task is never taken for
+  another's.
 """
 
 from __future__ import annotations
 
 import hashlib
+import multiprocessing
 import os
+import signal
 import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from contextlib import closing
 from pathlib import Path
 
 import pandas as pd
+
+from bbmc.dem.pace import stopped_when
 
 Model = Callable[[pd.DataFrame], pd.DataFrame]
 
@@ -42,10 +54,18 @@ def evaluate(model: Model, inputs: pd.DataFrame) -> pd.DataFrame:
     return pd.concat([inputs, model(inputs)], axis=1)
 
 
+class StudyInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a study; its message says how many samples are done and where they are kept."""
+
+
 def _write(store: Path, first: int, table: pd.DataFrame) -> None:
     path = batch_path(store, first)
     partial = path.with_suffix(".partial")
-    table.to_csv(partial, index=True, float_format="%.17g", na_rep="nan")
+    try:
+        table.to_csv(partial, index=True, float_format="%.17g", na_rep="nan")
+    except BaseException:
+        partial.unlink(missing_ok=True)
+        raise
     os.replace(partial, path)
 
 
@@ -68,13 +88,66 @@ class Progress:
         self.say(f"{self.done}/{self.total} samples, {elapsed:.0f} s, about {left:.0f} s left")
 
 
+def _ignore_interrupt() -> None:
+    """Each local worker's start: SIGINT ignored (the parent ends the workers)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class _KeptProcesses:
+    """The default multiprocessing context, keeping each process it makes: `concurrent.futures` cancels
+    only the tasks not yet started, so an interrupted study ends its running workers itself."""
+
+    def __init__(self) -> None:
+        self.context = multiprocessing.get_context()
+        self.made: list[multiprocessing.process.BaseProcess] = []
+
+    def Process(self, *args: object, **kwargs: object) -> multiprocessing.process.BaseProcess:
+        process = self.context.Process(*args, **kwargs)
+        self.made.append(process)
+        return process
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self.context, name)
+
+    def end(self) -> None:
+        """Terminate (SIGTERM) every process still alive and wait for it."""
+        for process in self.made:
+            if process.is_alive():
+                process.terminate()
+        for process in self.made:
+            process.join()
+
+
 def _local(model: Model, pending: list[pd.DataFrame], workers: int) -> Iterator[tuple[int, pd.DataFrame]]:
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    processes = _KeptProcesses()
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=processes, initializer=_ignore_interrupt)
+    try:
         futures: dict[Future, int] = {pool.submit(evaluate, model, b): int(b.index[0]) for b in pending}
         while futures:
             done, _ = wait(futures, return_when=FIRST_COMPLETED)
             for future in done:
                 yield futures.pop(future), future.result()
+    except BaseException:  # Ctrl-C, a failed batch, or the caller stopped early
+        pool.shutdown(wait=False, cancel_futures=True)
+        processes.end()
+        raise
+    pool.shutdown()
+
+
+def _evaluate_on_worker(model: Model, inputs: pd.DataFrame) -> pd.DataFrame:
+    """One task on a dask worker: `evaluate`, ended at its next kernel call once the task is cancelled
+    (its client interrupted: the worker marks the task cancelled, or forgets it)."""
+    from distributed import get_worker
+
+    worker = get_worker()
+    key = worker.get_current_task()
+
+    def cancelled() -> bool:
+        task = worker.state.tasks.get(key)
+        return task is None or task.state == "cancelled"
+
+    with stopped_when(cancelled):
+        return evaluate(model, inputs)
 
 
 def _cluster(
@@ -86,11 +159,18 @@ def _cluster(
         firsts = [int(b.index[0]) for b in pending]
         study = hashlib.sha256(str(store.resolve()).encode()).hexdigest()[:16]  # tasks named per store
         futures = client.map(
-            evaluate, [model] * len(pending), pending, key=[f"bbmc-{study}-batch-{f}" for f in firsts]
+            _evaluate_on_worker,
+            [model] * len(pending),
+            pending,
+            key=[f"bbmc-batch-{study}-{f}" for f in firsts],
         )
         first_of = dict(zip((f.key for f in futures), firsts, strict=True))
-        for future in as_completed(futures):
-            yield first_of[future.key], future.result()
+        try:
+            for future in as_completed(futures):
+                yield first_of[future.key], future.result()
+        except BaseException:  # the tasks not done leave the cluster with this client
+            client.cancel(futures)
+            raise
 
 
 def run_batches(
@@ -116,9 +196,16 @@ def run_batches(
             if scheduler
             else _local(model, pending, workers or os.cpu_count() or 1)
         )
-        for first, table in results:
-            _write(store, first, table)
-            progress.add(len(table))
+        try:
+            with closing(results):  # an interrupt while writing a batch still ends the workers at once
+                for first, table in results:
+                    _write(store, first, table)
+                    progress.add(len(table))
+        except KeyboardInterrupt:
+            raise StudyInterrupted(
+                f"{progress.done} of {progress.total} samples done, kept in {store}/ "
+                "(the same command runs only the rest)"
+            ) from None
     return collect(design, batch_size, store)
 
 
