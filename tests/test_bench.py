@@ -175,7 +175,7 @@ def test_a_section_left_out_of_the_config_is_skipped_with_one_line_saying_so(tmp
     assert outcome.exit_code == 0, outcome.output
     skipped = [line for line in outcome.stderr.splitlines() if line.endswith("skipped")]
     assert len(skipped) == len(SECTIONS) - 1
-    for name in SECTIONS[:-1]:
+    for name in (s for s in SECTIONS if s != "laws"):
         assert sum(f"section '{name}' is not in the config" in line for line in skipped) == 1
     assert {p.name for p in out.iterdir()} == {"laws.csv", "provenance.json"}
     assert len(pd.read_csv(out / "laws.csv")) == 4

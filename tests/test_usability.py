@@ -186,7 +186,7 @@ def test_bbmc_run_writes_a_paraview_series_that_reads_back(tmp_path):
     assert texts["group_names"] == ["base", "slider"] and texts["law_names"] == ["joint"]
 
     contacts, contact_texts = read_vtu(sorted((folder / "vtk").glob("contacts_*.vtu"))[-1])
-    assert set(contacts.point_data) == {"sigma_n_MPa", "tau_MPa", "slipped", "law_id"}
+    assert set(contacts.point_data) == {"sigma_n_MPa", "tau_MPa", "slipped", "failure", "law_id"}
     active = pd.read_csv(folder / "contacts.csv").query("length_m > 0")
     np.testing.assert_allclose(contacts.point_data["sigma_n_MPa"], active["sigma_n_MPa"], atol=1e-9)
     assert contact_texts["law"] == active["joint_law"].tolist()
