@@ -71,7 +71,7 @@ def test_onset_time_of_uniform_acceleration():
 # --- generator ------------------------------------------------------------------------------------
 def test_slope_blocks_are_convex_and_fill_the_profile():
     blocks = polygons.jointed_slope(**SLOPE, joint_sets=SETS, min_block_fraction=0.0)
-    assert all(polygons.convexity_fault(polygons.counter_clockwise(b)) is None for b in blocks)
+    assert all(polygons.shape_fault(polygons.counter_clockwise(b)) is None for b in blocks)
     crest = SLOPE["height_m"] / math.tan(math.radians(SLOPE["face_angle_deg"]))
     x_right = crest + SLOPE["crest_extent_m"]
     profile = x_right * SLOPE["height_m"] - 0.5 * crest * SLOPE["height_m"]
@@ -85,7 +85,7 @@ def test_slope_with_ground_in_front_fills_its_profile_and_splits_at_the_toe_alon
     width = 5.0 + crest + shape["crest_extent_m"]
     profile = width * 4.0 + (crest + shape["crest_extent_m"]) * 10.0 - 0.5 * crest * 10.0
     assert sum(polygons.polygon_area(b) for b in blocks) == pytest.approx(profile, rel=1e-9)
-    assert all(polygons.convexity_fault(polygons.counter_clockwise(b)) is None for b in blocks)
+    assert all(polygons.shape_fault(polygons.counter_clockwise(b)) is None for b in blocks)
 
 
 def test_joint_traces_lie_on_the_set_planes():

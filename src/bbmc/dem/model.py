@@ -14,8 +14,8 @@ import numpy as np
 
 from bbmc import laws, units
 from bbmc.config import ConfigError
+from bbmc.dem import detection, polygons
 from bbmc.dem import layout as L
-from bbmc.dem import polygons
 from bbmc.dem.scene import (
     BartonBandisLaw,
     BlockEntry,
@@ -154,7 +154,7 @@ def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]
 
 
 def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
-    """The entry's blocks (counter-clockwise, turned as asked) and the degrees of freedom held for each."""
+    """The entry's blocks (vertices as given, not yet turned) and the degrees of freedom held for each."""
     if entry.jointed_slope is not None:
         shapes, held = _slope_blocks(entry.jointed_slope)
     else:
@@ -166,14 +166,18 @@ def _shapes(entry: BlockEntry) -> tuple[list[np.ndarray], list[list[str]]]:
         else:
             shapes = polygons.GENERATORS["brick_wall"](**entry.brick_wall.model_dump())
         held = [[] for _ in shapes]
-    shapes = [polygons.counter_clockwise(s) for s in shapes]
-    if entry.rotate_deg:
-        turned = []
-        for s in shapes:
-            about = np.array(entry.rotate_about_m) if entry.rotate_about_m else polygons.mass_properties(s)[1]
-            turned.append(polygons.rotated(s, entry.rotate_deg * units.deg, about))
-        shapes = turned
     return shapes, [sorted(set(h) | set(entry.fix)) for h in held]
+
+
+def _turned(shapes: list[np.ndarray], entries: list[BlockEntry]) -> list[np.ndarray]:
+    """Each shape turned as its entry asks (about its own centroid unless the entry gives a point)."""
+    turned = []
+    for shape, entry in zip(shapes, entries, strict=True):
+        if entry.rotate_deg:
+            about = entry.rotate_about_m or polygons.mass_properties(shape)[1]
+            shape = polygons.rotated(shape, entry.rotate_deg * units.deg, np.array(about))
+        turned.append(shape)
+    return turned
 
 
 def _mobilized_law_row(law: MobilizedLaw, p: np.ndarray) -> tuple[list[int], np.ndarray]:
@@ -266,9 +270,54 @@ def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> 
     return int(np.argmax(normals @ direction))
 
 
+def _start_overlap_fault(
+    shapes: list[np.ndarray],
+    names: list[str],
+    vertex_start: np.ndarray,
+    vertex_next: np.ndarray,
+    sizes: np.ndarray,
+    scene: Scene,
+) -> str | None:
+    """Why the blocks cannot start where they are, or None: they span more than floating point holds,
+    or two of them overlap deeper than `contacts.interpenetration_limit` x the smaller one's size (the
+    depth at which a run warns). Every pair whose boxes meet is measured (the contact search's broad
+    phase, then separating axes), held blocks included."""
+    world = np.concatenate(shapes)
+    span = float(np.max(np.ptp(world, axis=0)))
+    if not np.isfinite(span):
+        return "the blocks lie too far apart for floating point (their span is not a finite number)"
+    pairs = detection.candidate_pairs(world, vertex_start, np.zeros(len(shapes), dtype=np.bool_), 0.0)
+    if not len(pairs):
+        return None
+    depth = detection.overlap_depth(pairs, world, vertex_start, vertex_next)
+    relative = depth / np.minimum(sizes[pairs[:, 0]], sizes[pairs[:, 1]])
+    limit = scene.contacts.interpenetration_limit
+    deep = np.flatnonzero(relative > limit)
+    if not len(deep):
+        return None
+    k = deep[np.argmax(relative[deep])]
+    a, b = pairs[k]
+    others = f"; {len(deep) - 1} other pairs overlap too" if len(deep) > 1 else ""
+    return (
+        f"blocks '{names[a]}' and '{names[b]}' overlap by {depth[k]:.3g} m at the start, "
+        f"{100 * relative[k]:.3g} % of the smaller one's size (contacts.interpenetration_limit: "
+        f"{100 * limit:.3g} %){others}"
+    )
+
+
+def _check_shapes(
+    shapes: list[np.ndarray], vertex_start: np.ndarray, names: list[str], keys: list[str], path: Path
+) -> None:
+    """ConfigError naming the first block whose shape cannot be a rigid convex block."""
+    faults = polygons.shape_faults(np.concatenate(shapes), vertex_start)
+    if faults:
+        i = min(faults)
+        raise _error(path, keys[i], f"block '{names[i]}': {faults[i]}")
+
+
 def build_model(scene: Scene, path: Path) -> Model:
     """Check every reference of the scene and assemble the engine's arrays."""
-    names, groups, shapes, entries, fixed = [], [], [], [], []
+    names, shape_keys, groups, shapes, entries, fixed = [], [], [], [], [], []
     for i, entry in enumerate(scene.blocks):
         key = f"blocks.{i}"
         if entry.material not in scene.materials:
@@ -276,17 +325,25 @@ def build_model(scene: Scene, path: Path) -> Model:
         if set(entry.fix) & set(_velocity_dofs(entry)):
             raise _error(path, f"{key}.velocity", "a degree of freedom is both fixed and prescribed")
         family = entry.brick_wall is not None or entry.jointed_slope is not None
-        shapes_of_entry, held = _shapes(entry)
+        shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
+        try:
+            shapes_of_entry, held = _shapes(entry)
+        except ValueError as error:  # a generator asked for more blocks than it makes
+            raise _error(path, f"{key}.{shape_key}", str(error)) from None
         for k, shape in enumerate(shapes_of_entry):
-            fault = polygons.convexity_fault(shape)
-            if fault:
-                shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
-                raise _error(path, f"{key}.{shape_key}", f"block {k}: {fault}" if family else fault)
             names.append(f"{entry.name}.{k}" if family else entry.name)
+            shape_keys.append(f"{key}.{shape_key}")
             groups.append(entry.group or entry.name)
             shapes.append(shape)
             entries.append(entry)
             fixed.append(held[k])
+    counts = np.array([len(s) for s in shapes])
+    vertex_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    _check_shapes(shapes, vertex_start, names, shape_keys, path)
+    shapes = [polygons.counter_clockwise(s) for s in shapes]
+    if any(entry.rotate_deg for entry in scene.blocks):
+        shapes = _turned(shapes, entries)
+        _check_shapes(shapes, vertex_start, names, shape_keys, path)
     seen: dict[str, int] = {}
     for i, name in enumerate(names):
         if name in seen:
@@ -298,8 +355,6 @@ def build_model(scene: Scene, path: Path) -> Model:
     n = len(shapes)
     blocks = np.zeros((n, L.BLOCK_COLUMNS))
     dof = np.zeros((n, 3), dtype=np.int64)
-    counts = np.array([len(s) for s in shapes])
-    vertex_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     vertex_block = np.repeat(np.arange(n), counts).astype(np.int64)
     vertex_next = np.empty(vertex_start[-1], dtype=np.int64)
     local = np.empty((vertex_start[-1], 2))
@@ -328,6 +383,10 @@ def build_model(scene: Scene, path: Path) -> Model:
                 blocks[i, L.VPX + d] = value
                 blocks[i, L.VX + d] = value if velocity.start_step == 0 else 0.0
         blocks[i, L.VSTART] = velocity.start_step if velocity else 0
+
+    overlap = _start_overlap_fault(shapes, names, vertex_start, vertex_next, blocks[:, L.SIZE], scene)
+    if overlap:
+        raise _error(path, "blocks", overlap)
 
     law_names = list(scene.joint_laws)
     rows = [_joint_law_row(law) for law in scene.joint_laws.values()]

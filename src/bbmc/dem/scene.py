@@ -14,6 +14,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import Section
+from bbmc.dem.polygons import MAX_BLOCKS
 from bbmc.joint_model import BartonBandisJoint
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
@@ -49,6 +50,14 @@ class BrickWall(Section):
     block_width_m: Positive
     block_height_m: Positive
     row_offset: Annotated[float, Field(ge=0, lt=1)] = 0.0
+
+    @model_validator(mode="after")
+    def _not_too_many(self) -> BrickWall:
+        if self.columns * self.rows > MAX_BLOCKS:
+            raise ValueError(
+                f"columns x rows is {self.columns * self.rows:,} blocks, more than {MAX_BLOCKS:,}"
+            )
+        return self
 
 
 class JointSet(Section):
