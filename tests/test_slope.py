@@ -189,3 +189,20 @@ def test_joint_set_parallel_to_the_section_is_refused(tmp_path):
 
     result = run_stage("slope", tmp_path / "results", config_copy(tmp_path, "slope", edit))
     assert result.exit_code == 2 and "joint_sets.1" in result.output
+
+
+def test_a_limit_equilibrium_step_budget_too_small_to_decide_is_one_line(tmp_path):
+    """The engine's block neither at rest nor slid within limit_equilibrium.max_steps: bad input naming
+    the key (it was a traceback)."""
+
+    def edit(data):
+        data["run"]["duration_s"] = 0.02
+        data["limit_equilibrium"]["max_steps"] = 10
+        return data
+
+    config = config_copy(tmp_path, "slope", edit)
+    result = run_stage("slope", tmp_path / "results", config)
+    assert result.exit_code == 2, result.output
+    line = result.stderr.strip()
+    assert line.startswith(f"bbmc slope: error: {config}: key 'limit_equilibrium': undecided after 10 steps")
+    assert not (tmp_path / "results").exists()

@@ -163,3 +163,14 @@ def test_a_square_of_any_size_anywhere_is_sound_with_its_mass_properties(size, x
     assert area == pytest.approx(size**2, rel=1e-9)
     assert centroid == pytest.approx([x + size / 2, y + size / 2], rel=1e-15, abs=1e-12 * size)
     assert polar == pytest.approx(size**4 / 6, rel=1e-9)
+
+
+def test_a_density_whose_mass_leaves_floating_point_is_refused(tmp_path):
+    """5e-324 kg/m^3 (allowed: > 0) makes the slider's mass 0 in floating point, and the base's a
+    subnormal number: the time step divided by them (a ZeroDivisionError from the engine)."""
+    scene = edited(
+        block_on_base(0.0, constant_joint(30.0), steps=10), **{"materials.rock.density_kg_m3": 5e-324}
+    )
+    line = _refused(tmp_path, scene)
+    assert "key 'materials.rock.density_kg_m3': block 'base': its mass (1.48e-323 kg) and moment" in line
+    assert line.endswith("are beyond floating point")

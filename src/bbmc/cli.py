@@ -51,7 +51,8 @@ def _reported(name: str) -> Iterator[None]:
 
 @contextmanager
 def _scene_at_fault(config_path: Path) -> Iterator[None]:
-    """A run stopped by the scene itself (an unusable time step) is bad input naming the scene file."""
+    """A run stopped by its scene or config itself (an unusable time step, a step budget too small to
+    decide) is bad input naming the file."""
     try:
         yield
     except SimulationError as error:
@@ -74,16 +75,17 @@ def _run_stage(
     config_path = Path(config) if config else Path("configs") / f"{stage.NAME}.yaml"
     with _reported(stage.NAME):
         settings = load_config(config_path, stage.Config)
-        if progress_after_s is None:
-            result = stage.run(settings)
-        else:
-            started = time.perf_counter()
+        with _scene_at_fault(config_path):
+            if progress_after_s is None:
+                result = stage.run(settings)
+            else:
+                started = time.perf_counter()
 
-            def progress(step: str) -> None:
-                if time.perf_counter() - started >= progress_after_s:
-                    click.echo(f"bbmc {stage.NAME}: {step}", err=True)
+                def progress(step: str) -> None:
+                    if time.perf_counter() - started >= progress_after_s:
+                        click.echo(f"bbmc {stage.NAME}: {step}", err=True)
 
-            result = stage.run(settings, progress)
+                result = stage.run(settings, progress)
         record = provenance(stage.NAME, config_path, settings)
         written = write_stage(Path(results) / stage.NAME, result, record)
     _report_written(stage.NAME, Path(results) / stage.NAME, written)

@@ -315,6 +315,22 @@ def _check_shapes(
         raise _error(path, keys[i], f"block '{names[i]}': {faults[i]}")
 
 
+def _check_inertia(blocks: np.ndarray, names: list[str], entries: list[BlockEntry], path: Path) -> None:
+    """ConfigError naming the first block whose mass or moment of inertia (density x area, density x
+    second moment of area) is not a positive normal floating-point number: the engine divides by both."""
+    inertia = blocks[:, [L.MASS, L.INERTIA]]
+    sound = np.all(np.isfinite(inertia) & (inertia >= np.finfo(float).tiny), axis=1)
+    if not sound.all():
+        i = int(np.argmin(sound))
+        mass, moment = inertia[i]
+        raise _error(
+            path,
+            f"materials.{entries[i].material}.density_kg_m3",
+            f"block '{names[i]}': its mass ({mass:.3g} kg) and moment of inertia ({moment:.3g} kg m^2) "
+            "are beyond floating point",
+        )
+
+
 def build_model(scene: Scene, path: Path) -> Model:
     """Check every reference of the scene and assemble the engine's arrays."""
     names, shape_keys, groups, shapes, entries, fixed = [], [], [], [], [], []
@@ -383,6 +399,7 @@ def build_model(scene: Scene, path: Path) -> Model:
                 blocks[i, L.VPX + d] = value
                 blocks[i, L.VX + d] = value if velocity.start_step == 0 else 0.0
         blocks[i, L.VSTART] = velocity.start_step if velocity else 0
+    _check_inertia(blocks, names, entries, path)
 
     overlap = _start_overlap_fault(shapes, names, vertex_start, vertex_next, blocks[:, L.SIZE], scene)
     if overlap:

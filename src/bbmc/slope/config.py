@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
+from bbmc import paper_tables
 from bbmc.config import InputFile, Section
 from bbmc.dem.scene import JointedSlope, StrengthReduction
-from bbmc.io import ANY, POSITIVE, read_table
 from bbmc.slope import model as sm
 
 
@@ -91,26 +91,15 @@ class Config(Section):
 
 
 def load_table4(data: Inputs) -> sm.Table4:
-    rock = read_table(data.table4_rock_mass, {"density_kg_per_m3": POSITIVE})
-    constant = read_table(
-        data.table4_joints_constant,
-        {c: POSITIVE for c in ("K_s_MPa_per_mm", "K_n_MPa_per_mm", "phi_deg", "c_kPa")},
+    rock = paper_tables.read("table4_rock_mass", data.table4_rock_mass, ["density_kg_per_m3"])
+    constant = paper_tables.read("table4_joints_constant", data.table4_joints_constant)
+    nonlinear = paper_tables.read("table4_joints_nonlinear", data.table4_joints_nonlinear)
+    constants = paper_tables.printed_constants(
+        paper_tables.read("equation_constants", data.equation_constants)
     )
-    columns = (
-        "K_st_coefficient_MPa_per_mm",
-        "K_st_exponent",
-        "K_n_coefficient_per_mm",
-        "phi_b_deg",
-        "JRC",
-        "JCS_MPa",
-        "eq15_coefficient",
-    )
-    nonlinear = read_table(data.table4_joints_nonlinear, {c: POSITIVE for c in columns})
-    constants = read_table(data.equation_constants, {"equation": POSITIVE, "value": ANY})
-    lg_e = constants.loc[constants["name"] == "lg_e", "value"]
     return sm.Table4(
         density_kg_m3=float(rock["density_kg_per_m3"].iloc[0]),
         constant={k: float(v) for k, v in constant.iloc[0].items()},
         nonlinear={k: float(v) for k, v in nonlinear.iloc[0].items()},
-        printed_lg_e=float(lg_e.iloc[0]),
+        printed_lg_e=constants["eq6.lg_e"],
     )

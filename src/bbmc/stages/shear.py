@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from bbmc import joint_model as jm
-from bbmc import units
+from bbmc import paper_tables, units
 from bbmc.comparison import TOLERANCES, judge
 from bbmc.io import StageResult
 from bbmc.shear import box
@@ -318,7 +318,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     curves = velocity_curves(bench, stresses, progress)
     peaks = velocity_peaks(curves, bench, inputs["table1"])
     test_curves = fit_stage.fig1_curves(inputs["table1"], inputs["legends"], config.fig2a_units, 200)
-    constants = jm.printed_constants(inputs["constants"])
+    constants = paper_tables.printed_constants(inputs["constants"])
     fits, detail = calibration(bench, loads, constants, progress)
     dpi = config.figure_dpi
     return StageResult(

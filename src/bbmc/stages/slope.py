@@ -27,7 +27,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.figures import mechanism_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import JointedSlope, Scene
-from bbmc.dem.solver import simulate
+from bbmc.dem.solver import SimulationError, simulate
 from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
 from bbmc.slope import figures, safety
@@ -415,7 +415,13 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             config, table4, kind, config.slope, monitor_joints=True, vtk_every=config.vtk_every_records
         )
     progress("limit equilibrium")
-    sweep, critical = limit_equilibrium(config, table4)
+    try:
+        sweep, critical = limit_equilibrium(config, table4)
+    except le.UndecidedError as error:
+        raise SimulationError(
+            f"key 'limit_equilibrium': {error}; raise max_steps, or check equilibrium_ratio and slide_mm",
+            bad_input=True,
+        ) from None
     dips = sensitivity(config, table4, progress)
     progress("factor of safety by strength reduction, both models")
     safety_table, reductions = safety.factor_of_safety_table(config, table4)
