@@ -109,6 +109,13 @@ def test_factor_of_safety_is_one_at_the_critical_dip_and_follows_the_closed_form
     assert le.critical_dip(bb, 2.0, 2500.0, 1.0, 89.0) == pytest.approx(33.0)
 
 
+def test_a_block_that_holds_at_every_dip_has_no_critical_dip():
+    """Cohesion against a light block: FS > 1 up to 89 deg, so no dip is critical (NaN; brentq raised)."""
+    holding = {"law": "constant", "cohesion_MPa": 0.1, "friction_deg": 30.0}
+    assert le.factor_of_safety(holding, 89.0, 2.0, 2.3) > 1
+    assert math.isnan(le.critical_dip(holding, 2.0, 2.3, 1.0, 89.0))
+
+
 def test_engine_critical_dip_bisects_a_step_function():
     assert le.engine_critical_dip(lambda d: d > 21.3, 10.0, 30.0, 0.01) == pytest.approx(21.3, abs=0.01)
     with pytest.raises(ValueError, match="hold at"):
@@ -206,3 +213,19 @@ def test_a_limit_equilibrium_step_budget_too_small_to_decide_is_one_line(tmp_pat
     line = result.stderr.strip()
     assert line.startswith(f"bbmc slope: error: {config}: key 'limit_equilibrium': undecided after 10 steps")
     assert not (tmp_path / "results").exists()
+
+
+def test_a_bedding_that_leaves_no_sliding_layer_is_one_line(tmp_path):
+    """A near-flat bedding (2e-8 deg) leaves no block on the bedding joint through the toe: the paper's
+    blocks 1-4 cannot be picked (it was a traceback)."""
+
+    def edit(data):
+        data["slope"]["joint_sets"][0]["dip_deg"] = 2e-8
+        return data
+
+    result = run_stage("slope", tmp_path / "results", config_copy(tmp_path, "slope", edit))
+    assert result.exit_code == 2, result.output
+    assert (
+        "key 'slope': with the bedding at 2e-08 deg, 0 free blocks rest on the bedding joint" in result.stderr
+    )
+    assert len(result.stderr.strip().splitlines()) == 1

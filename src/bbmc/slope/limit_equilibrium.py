@@ -54,10 +54,15 @@ def factor_of_safety(law: dict, dip_deg: float, thickness_m: float, density_kg_m
 
 
 def critical_dip(law: dict, thickness_m: float, density_kg_m3: float, low: float, high: float) -> float:
-    """The dip [deg] where FS = 1 (Brent's method; FS must cross 1 between low and high)."""
-    return brentq(
-        lambda dip: factor_of_safety(law, dip, thickness_m, density_kg_m3) - 1.0, low, high, xtol=1e-10
-    )
+    """The dip [deg] where FS = 1 (Brent's method), or NaN where FS does not cross 1 between low and
+    high (a block that holds, or slides, at every dip there)."""
+
+    def excess(dip: float) -> float:
+        return factor_of_safety(law, dip, thickness_m, density_kg_m3) - 1.0
+
+    if not excess(low) * excess(high) < 0:
+        return math.nan
+    return brentq(excess, low, high, xtol=1e-10)
 
 
 def block_scene(

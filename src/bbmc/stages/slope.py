@@ -16,6 +16,7 @@ given against time, and the claims are measured against time.
 from __future__ import annotations
 
 import itertools
+import math
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -91,6 +92,13 @@ def run_slope(
     ParaView series of every vtk_every-th record too)."""
     probe = _model(config, table4, kind, slope, [])
     layer = sm.sliding_layer(probe, slope)
+    needed = 4 if monitor_joints else 1
+    if len(layer) < needed:
+        raise SimulationError(
+            f"key 'slope': with the bedding at {slope.joint_sets[0].dip_deg:g} deg, {len(layer)} free blocks "
+            f"rest on the bedding joint through the toe; the paper's measures need {needed}",
+            bad_input=True,
+        )
     numbering = sm.paper_numbering(layer) if monitor_joints else {2: layer[0]}
     monitors = []
     if monitor_joints:
@@ -357,8 +365,10 @@ def limit_equilibrium(config: Config, table4: sm.Table4) -> tuple[pd.DataFrame, 
                 }
             )
         analytic = le.critical_dip(law, h, rho, 0.5, 89.5)
-        engine = le.engine_critical_dip(
-            slides, max(analytic - 5, 0.5), min(analytic + 5, 89.5), s.tolerance_deg
+        engine = (  # none where FS does not cross 1
+            le.engine_critical_dip(slides, max(analytic - 5, 0.5), min(analytic + 5, 89.5), s.tolerance_deg)
+            if math.isfinite(analytic)
+            else math.nan
         )
         critical.append(
             {
