@@ -424,6 +424,14 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
         runs[kind] = run_slope(
             config, table4, kind, config.slope, monitor_joints=True, vtk_every=config.vtk_every_records
         )
+    end = _on_common_time(runs)
+    records = min(int(np.sum(r.time <= end)) for r in runs.values())
+    if records < 3:
+        raise SimulationError(
+            f"key 'run.duration_s': the runs hold {records} record(s) in their common {end:.3g} s; Fig 10's "
+            "quadratic fits need 3 or more: lengthen duration_s, or record more often (record_every_steps)",
+            bad_input=True,
+        )
     progress("limit equilibrium")
     try:
         sweep, critical = limit_equilibrium(config, table4)
