@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import sys
 import time
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -35,18 +36,24 @@ from bbmc.stages import sweep as sweep_stage
 def _reported(name: str) -> Iterator[None]:
     """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
     config, an input file, an unusable time step), 3 for a run that went unstable, 1 for a failed
-    write."""
-    try:
-        yield
-    except ConfigError as error:
-        click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(2)
-    except SimulationError as error:
-        click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(2 if error.bad_input else 3)
-    except OSError as error:
-        click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
-        sys.exit(1)
+    write. Python's warnings on the way (numpy's overflow, say, from an input far out of range) are
+    shown one line each after a run that ends well, and dropped beside the error line of one that
+    does not (it says what went wrong)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        try:
+            yield
+        except ConfigError as error:
+            click.echo(f"bbmc {name}: error: {error}", err=True)
+            sys.exit(2)
+        except SimulationError as error:
+            click.echo(f"bbmc {name}: error: {error}", err=True)
+            sys.exit(2 if error.bad_input else 3)
+        except OSError as error:
+            click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
+            sys.exit(1)
+    for text in dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught):
+        click.echo(f"bbmc {name}: warning: {text}", err=True)
 
 
 @contextmanager

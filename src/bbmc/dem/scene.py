@@ -26,6 +26,12 @@ Dof = Literal["x", "y", "rotation"]
 AfterSlip = Literal["zero", "keep"]  # keep: ductile (limit equilibrium's); zero: UDEC's Coulomb slip
 
 
+def name_part(value: float) -> str:
+    """A number as part of a scene's name (letters, digits, _ and - only): 0.15 -> 0p15, 5.5e+298 ->
+    5p5e298 (a name made with the '+' of an exponent was refused, a traceback)."""
+    return f"{value:g}".replace(".", "p").replace("+", "")
+
+
 def _exactly_one(model: Section, keys: tuple[str, ...], what: str) -> None:
     given = [key for key in keys if getattr(model, key) is not None]
     if len(given) != 1:

@@ -3,6 +3,8 @@ read from the data files it names (`load_table4`)."""
 
 from __future__ import annotations
 
+from typing import Annotated
+
 from pydantic import Field, model_validator
 
 from bbmc import paper_tables
@@ -54,7 +56,7 @@ class Residual(Section):
     """The slope with the full Barton-Bandis joint (residual strength after slip) against the peak-only
     joint (`slope.safety.residual_comparison`); the paper gives no r/R, so phi_r is a list to try."""
 
-    phi_r_deg: list[float] = Field(min_length=1)
+    phi_r_deg: list[Annotated[float, Field(gt=0, lt=90)]] = Field(min_length=1)  # each <= Table 4's phi_b
     lab_length_m: float = Field(gt=0)  # Table 4's JRC and JCS are taken at this length
     field_length_m: float = Field(gt=0)  # the joints' length in the slope
     update_interval_steps: int = Field(ge=1)

@@ -28,6 +28,7 @@ import pandas as pd
 from bbmc import joint_model as jm
 from bbmc import paper_tables, units
 from bbmc.comparison import TOLERANCES, judge
+from bbmc.dem.scene import name_part
 from bbmc.io import StageResult
 from bbmc.shear import box
 from bbmc.shear import calibration as cal
@@ -55,8 +56,10 @@ def quick_config(config: Config) -> Config:
 
 
 def _label(sigma_n: float, tau: float | None, law: str) -> str:
-    load = f"{sigma_n / units.MPa:g}MPa" + (f"_{tau / units.MPa:g}MPa" if tau is not None else "")
-    return f"{law}_{load}".replace(".", "p")
+    load = f"{name_part(sigma_n / units.MPa)}MPa" + (
+        f"_{name_part(tau / units.MPa)}MPa" if tau is not None else ""
+    )
+    return f"{law}_{load}"
 
 
 def stress_tests(bench: Bench, loads: pd.DataFrame, progress: Callable[[str], None]) -> pd.DataFrame:

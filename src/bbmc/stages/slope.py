@@ -418,6 +418,14 @@ def _gif(runs: dict[str, SlopeRun], frames: int, dpi: int) -> bytes:
 def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
     """Run both joint models, the limit-equilibrium check and the dip study; tabulate and draw."""
     table4 = load_table4(config.data)
+    phi_b = table4.nonlinear["phi_b_deg"]
+    for phi_r in config.residual.phi_r_deg:
+        if phi_r > phi_b:
+            raise SimulationError(
+                f"key 'residual.phi_r_deg': {phi_r:g} exceeds Table 4's phi_b_deg {phi_b:g} "
+                f"({config.data.table4_joints_nonlinear}): a residual angle is at most the basic one",
+                bad_input=True,
+            )
     runs = {}
     for kind in sm.JOINT_MODELS:
         progress(f"slope run, {kind} joints")
