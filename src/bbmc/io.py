@@ -68,9 +68,9 @@ def read_table(path: Path, columns: Mapping[str, Column], rows: int | None = Non
     The header names each column once; every named column is there; every data row has no more cells
     than the header (fewer: the missing ones are blank); a numeric cell is a finite number within its
     column's range, a blank cell only where the column allows it; there is at least one data row, and
-    exactly `rows` if given. Any fault raises `ConfigError` naming the file, the line (the header is line
-    1) and the column. Returns the named columns only, numbers as floats, blank cells as NaN (text
-    columns: ''), indexed by each row's line in the file (`line`).
+    exactly `rows` if given. Any fault raises `ConfigError` naming the file, the line (counted in the
+    file, the header's included) and the column. Returns the named columns only, numbers as floats,
+    blank cells as NaN (text columns: ''), indexed by each row's line in the file (`line`).
     """
     try:
         text = path.read_bytes().decode("utf-8-sig")
@@ -89,10 +89,10 @@ def read_table(path: Path, columns: Mapping[str, Column], rows: int | None = Non
         raise ConfigError(f"{path}: line {lines.line_num}: not a CSV table: {exc}") from None
     if not records:
         raise ConfigError(f"{path}: the file is empty (a header line and data rows are expected)")
-    header = [cell.strip() for cell in records[0][1]]
+    header_line, header = records[0][0], [cell.strip() for cell in records[0][1]]
     for k, name in enumerate(header):
         if name in header[:k]:
-            raise ConfigError(f"{path}: line 1: column '{name}' is named twice")
+            raise ConfigError(f"{path}: line {header_line}: column '{name}' is named twice")
     body = records[1:]
     if not body:
         raise ConfigError(f"{path}: no data rows under the header")
