@@ -6,7 +6,7 @@ STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
 
-.PHONY: reproduce test test-slow bench lint docs fit mc audit shear slope fos joint joints sweep clean
+.PHONY: reproduce test test-slow fuzz bench lint docs fit mc audit shear slope fos joint joints sweep clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -53,6 +53,11 @@ test: $(STAMP)
 
 test-slow: $(STAMP)
 	$(BIN)/pytest -q -m slow
+
+# The fuzz test (tests/test_fuzz.py) at length: FUZZ_EXAMPLES mutated inputs over every seed, drawn afresh.
+FUZZ_EXAMPLES ?= 1000
+fuzz: $(STAMP)
+	BBMC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz.py --hypothesis-show-statistics
 
 bench: $(STAMP)
 	$(BIN)/bbmc bench --config configs/bench.yaml

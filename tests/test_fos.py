@@ -262,3 +262,16 @@ def test_the_slope_with_residual_strength_moves_further_and_is_less_safe():
     assert lab["factor_of_safety"] > fresh["factor_of_safety"] > weathered["factor_of_safety"]
     assert fresh["factor_of_safety"] == pytest.approx(field["factor_of_safety"], abs=0.01)
     assert weathered["factor_of_safety"] >= math.tan(25 * DEG) / math.tan(20 * DEG)
+
+
+def test_a_tolerance_finer_than_round_off_ends_at_adjacent_numbers():
+    """fos.tolerance 1e-300 (allowed: > 0): the bisection stops once its two ends are neighbouring
+    floating-point numbers (it looped forever), after some 60 trials, with the FS between them (as near
+    the closed form as the engine's verdicts resolve: 2e-5 measured)."""
+    scene = dict(CASES["block_mohr_coulomb"].scene, fos={"tolerance": 1e-300})
+    result = _fos(scene)
+    lo, hi = result.bracket
+    assert result.bracketed and math.nextafter(lo, math.inf) == hi
+    assert len(result.trials) < 70
+    expected = CASES["block_mohr_coulomb"].expected
+    assert abs(result.factor_of_safety - expected) / expected < 1e-3

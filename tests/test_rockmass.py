@@ -17,7 +17,7 @@ from scipy import stats
 
 from bbmc.bench.rockmass_cost import rockmass_cost
 from bbmc.config import ConfigError
-from bbmc.dem.polygons import convexity_fault, polygon_area
+from bbmc.dem.polygons import polygon_area, shape_fault, shape_faults
 from bbmc.rockmass import RockMassConfig, cut, from_file, generate, profile
 from bbmc.rockmass.distributions import length
 from bbmc.rockmass.figure import rock_mass_figure
@@ -138,7 +138,9 @@ def test_blocks_are_convex_counter_clockwise_and_tile_the_body(case, seed):
     assert len(mass.polygons) > 20
     for polygon, splits in zip(mass.polygons, mass.split_vertices, strict=True):
         assert polygon_area(polygon) > 0
-        assert convexity_fault(np.delete(polygon, splits, axis=0)) is None
+        assert shape_fault(np.delete(polygon, splits, axis=0)) is None
+        straight = np.isin(np.arange(len(polygon)), splits)
+        assert shape_faults(polygon, np.array([0, len(polygon)]), straight) == {}
     assert sum(polygon_area(p) for p in mass.polygons) == pytest.approx(body, rel=1e-9)
     assert all(len(p) == len(labels) for p, labels in zip(mass.polygons, mass.edge_labels, strict=True))
 

@@ -71,7 +71,7 @@ def test_onset_time_of_uniform_acceleration():
 # --- generator ------------------------------------------------------------------------------------
 def test_slope_blocks_are_convex_and_fill_the_profile():
     blocks = polygons.jointed_slope(**SLOPE, joint_sets=SETS, min_block_fraction=0.0)
-    assert all(polygons.convexity_fault(polygons.counter_clockwise(b)) is None for b in blocks)
+    assert all(polygons.shape_fault(polygons.counter_clockwise(b)) is None for b in blocks)
     crest = SLOPE["height_m"] / math.tan(math.radians(SLOPE["face_angle_deg"]))
     x_right = crest + SLOPE["crest_extent_m"]
     profile = x_right * SLOPE["height_m"] - 0.5 * crest * SLOPE["height_m"]
@@ -85,7 +85,7 @@ def test_slope_with_ground_in_front_fills_its_profile_and_splits_at_the_toe_alon
     width = 5.0 + crest + shape["crest_extent_m"]
     profile = width * 4.0 + (crest + shape["crest_extent_m"]) * 10.0 - 0.5 * crest * 10.0
     assert sum(polygons.polygon_area(b) for b in blocks) == pytest.approx(profile, rel=1e-9)
-    assert all(polygons.convexity_fault(polygons.counter_clockwise(b)) is None for b in blocks)
+    assert all(polygons.shape_fault(polygons.counter_clockwise(b)) is None for b in blocks)
 
 
 def test_joint_traces_lie_on_the_set_planes():
@@ -107,6 +107,13 @@ def test_factor_of_safety_is_one_at_the_critical_dip_and_follows_the_closed_form
         "strength": {"jrc": 0.0, "jcs_MPa": 10.0, "phi_b_deg": 33.0, "phi_max_deg": 70.0},
     }
     assert le.critical_dip(bb, 2.0, 2500.0, 1.0, 89.0) == pytest.approx(33.0)
+
+
+def test_a_block_that_holds_at_every_dip_has_no_critical_dip():
+    """Cohesion against a light block: FS > 1 up to 89 deg, so no dip is critical (NaN; brentq raised)."""
+    holding = {"law": "constant", "cohesion_MPa": 0.1, "friction_deg": 30.0}
+    assert le.factor_of_safety(holding, 89.0, 2.0, 2.3) > 1
+    assert math.isnan(le.critical_dip(holding, 2.0, 2.3, 1.0, 89.0))
 
 
 def test_engine_critical_dip_bisects_a_step_function():
@@ -189,3 +196,36 @@ def test_joint_set_parallel_to_the_section_is_refused(tmp_path):
 
     result = run_stage("slope", tmp_path / "results", config_copy(tmp_path, "slope", edit))
     assert result.exit_code == 2 and "joint_sets.1" in result.output
+
+
+def test_a_limit_equilibrium_step_budget_too_small_to_decide_is_one_line(tmp_path):
+    """The engine's block neither at rest nor slid within limit_equilibrium.max_steps: bad input naming
+    the key (it was a traceback)."""
+
+    def edit(data):
+        data["run"]["duration_s"] = 0.02
+        data["limit_equilibrium"]["max_steps"] = 10
+        return data
+
+    config = config_copy(tmp_path, "slope", edit)
+    result = run_stage("slope", tmp_path / "results", config)
+    assert result.exit_code == 2, result.output
+    line = result.stderr.strip()
+    assert line.startswith(f"bbmc slope: error: {config}: key 'limit_equilibrium': undecided after 10 steps")
+    assert not (tmp_path / "results").exists()
+
+
+def test_a_bedding_that_leaves_no_sliding_layer_is_one_line(tmp_path):
+    """A near-flat bedding (2e-8 deg) leaves no block on the bedding joint through the toe: the paper's
+    blocks 1-4 cannot be picked (it was a traceback)."""
+
+    def edit(data):
+        data["slope"]["joint_sets"][0]["dip_deg"] = 2e-8
+        return data
+
+    result = run_stage("slope", tmp_path / "results", config_copy(tmp_path, "slope", edit))
+    assert result.exit_code == 2, result.output
+    assert (
+        "key 'slope': with the bedding at 2e-08 deg, 0 free blocks rest on the bedding joint" in result.stderr
+    )
+    assert len(result.stderr.strip().splitlines()) == 1

@@ -19,7 +19,7 @@ from scipy.optimize import brentq
 from scipy.spatial import ConvexHull, QhullError
 
 from bbmc.dem import layout as L
-from bbmc.dem.polygons import convexity_fault, mass_properties, polygon_area, rectangle, rotated
+from bbmc.dem.polygons import mass_properties, polygon_area, rectangle, rotated, shape_fault
 from bbmc.dem.water import add_water_loads, edge_water_load, water_pressure
 
 GAMMA = 9810.0  # unit weight of water [N/m^3]
@@ -115,7 +115,7 @@ def _hull(points) -> np.ndarray:
     except QhullError:  # degenerate (collinear) draws
         assume(False)
     vertices = points[hull.vertices]  # counter-clockwise in 2D
-    assume(convexity_fault(vertices) is None and mass_properties(vertices)[0] > 1e-2)
+    assume(shape_fault(vertices) is None and mass_properties(vertices)[0] > 1e-2)
     return vertices
 
 

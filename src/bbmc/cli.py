@@ -45,19 +45,23 @@ def _reported(name: str, strict: bool = False) -> Iterator[None]:
     config, an input file, an unusable time step), 3 for a run that went unstable, 4 for a study in
     which no sample gave a result (its first errors, a few lines), 1 for a failed write, 130 for Ctrl-C
     (what a sweep keeps, if it says so; nothing else is written). An implausible value of a config
-    loaded meanwhile is one warning line (each once), or with `strict` bad input."""
+    loaded meanwhile is one warning line (each once), or with `strict` bad input. Python's other
+    warnings on the way (numpy's overflow, say, from an input far out of range) are shown one line
+    each after a run that ends well, and dropped beside the error line of one that does not (it says
+    what went wrong)."""
     shown: set[str] = set()
-    others = warnings.showwarning
+    deferred: dict[str, None] = {}  # the other warnings, each once, for after a run that ends well
 
     def show(message: Warning | str, category: type[Warning], *where: object, **more: object) -> None:
         if not issubclass(category, ImplausibleValue):
-            others(message, category, *where, **more)
+            deferred[f"{category.__name__}: {message}"] = None
         elif str(message) not in shown:
             shown.add(str(message))
             click.echo(f"bbmc {name}: warning: {message}", err=True)
 
     try:
         with warnings.catch_warnings():
+            warnings.simplefilter("default")
             warnings.simplefilter("error" if strict else "always", ImplausibleValue)
             warnings.showwarning = show
             yield
@@ -83,6 +87,8 @@ def _reported(name: str, strict: bool = False) -> Iterator[None]:
     except OSError as error:
         click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
         sys.exit(1)
+    for text in deferred:
+        click.echo(f"bbmc {name}: warning: {text}", err=True)
 
 
 def _interrupt_behind(error: BaseException | None) -> KeyboardInterrupt | None:
@@ -97,7 +103,8 @@ def _interrupt_behind(error: BaseException | None) -> KeyboardInterrupt | None:
 
 @contextmanager
 def _scene_at_fault(config_path: Path) -> Iterator[None]:
-    """A run stopped by the scene itself (an unusable time step) is bad input naming the scene file."""
+    """A run stopped by its scene or config itself (an unusable time step, a step budget too small to
+    decide) is bad input naming the file."""
     try:
         yield
     except SimulationError as error:
@@ -152,16 +159,17 @@ def _run_stage(
     `options`: the command's own options, passed to the stage's run and recorded in its provenance."""
     with _reported(stage.NAME, strict):
         settings = load_config(config_path, stage.Config)
-        if progress_after_s is None:
-            result = stage.run(settings)
-        else:
-            started = time.perf_counter()
+        with _scene_at_fault(config_path):
+            if progress_after_s is None:
+                result = stage.run(settings)
+            else:
+                started = time.perf_counter()
 
-            def progress(step: str) -> None:
-                if time.perf_counter() - started >= progress_after_s:
-                    click.echo(f"bbmc {stage.NAME}: {step}", err=True)
+                def progress(step: str) -> None:
+                    if time.perf_counter() - started >= progress_after_s:
+                        click.echo(f"bbmc {stage.NAME}: {step}", err=True)
 
-            result = stage.run(settings, progress, **options)
+                result = stage.run(settings, progress, **options)
         record = provenance(stage.NAME, config_path, settings) | options
         written = write_stage(Path(results) / stage.NAME, result, record)
     _report_written(stage.NAME, Path(results) / stage.NAME, written)

@@ -11,12 +11,21 @@ from __future__ import annotations
 
 import difflib
 import re
+from collections.abc import Iterator
 from pathlib import Path
 from types import UnionType
 from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin
 
 import yaml
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, ValidationInfo
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+)
 
 from bbmc import plausibility
 
@@ -86,10 +95,31 @@ def read_yaml(path: str | Path) -> object:
         raise ConfigError(f"{path}: invalid YAML{where}: {problem}") from None
 
 
+LARGEST_WHOLE = 2**53  # whole numbers up to it are exact in floating point, where the engine keeps counts
+
+
+def _whole_numbers(value: object) -> Iterator[int]:
+    if isinstance(value, int) and not isinstance(value, bool):
+        yield value
+    elif isinstance(value, list | tuple):
+        for item in value:
+            yield from _whole_numbers(item)
+
+
 class Section(BaseModel):
-    """Base of every config section: frozen, strict types, no unknown keys, no NaN or infinite numbers."""
+    """Base of every config section: frozen, strict types, no unknown keys, no NaN or infinite numbers,
+    no whole number beyond 2^53 in size (a step count of 5e31 overflowed the engine's 64-bit integers)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
+
+    @field_validator("*")
+    @classmethod
+    def _whole_numbers_fit(cls, value: object) -> object:
+        if any(abs(number) > LARGEST_WHOLE for number in _whole_numbers(value)):
+            raise ValueError(
+                f"a whole number beyond 2^53 = {LARGEST_WHOLE:,} in size (not exact in floating point)"
+            )
+        return value
 
 
 def _existing_file(value: Path, info: ValidationInfo) -> Path:

@@ -14,6 +14,7 @@ either; `r` is Pearson's correlation coefficient of the fitted (transformed) var
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,7 +75,9 @@ def power_law_fit(x: np.ndarray, y: np.ndarray, method: str) -> Fit:
     loglog = stats.linregress(np.log(x), np.log(y))
     a, b = float(np.exp(loglog.intercept)), float(loglog.slope)
     if method == "nonlinear":
-        (a, b), _ = optimize.curve_fit(lambda s, a_, b_: a_ * s**b_, x, y, p0=(a, b))
+        with warnings.catch_warnings():  # its covariance (not used) cannot be estimated from two points
+            warnings.simplefilter("ignore", optimize.OptimizeWarning)
+            (a, b), _ = optimize.curve_fit(lambda s, a_, b_: a_ * s**b_, x, y, p0=(a, b))
     elif method != "log-log":
         raise ValueError(f"unknown power-law method {method!r}: use 'log-log' or 'nonlinear'")
     y_hat = a * x**b

@@ -2,30 +2,67 @@
 
 from __future__ import annotations
 
+import csv
 import hashlib
+import io
 import json
+import math
 import platform
 import shutil
 import signal
 import subprocess
 import tempfile
 import threading
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import metadata
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 from pydantic import BaseModel
 
 from bbmc.config import ConfigError
 
-RowCheck = tuple[Callable[[float], bool], str]
-POSITIVE: RowCheck = (lambda v: v > 0, "must be > 0")
-ANY: RowCheck = (lambda v: True, "")
+
+@dataclass(frozen=True)
+class Column:
+    """What every cell of an input table's column must hold: a finite number from `low` to `high`
+    (either end excluded where `*_open`), or any text (`text`); a blank cell only where `blank`."""
+
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    high_open: bool = False
+    blank: bool = False
+    text: bool = False
+
+    def holds(self, value: float) -> bool:
+        above = value > self.low if self.low_open else value >= self.low
+        below = value < self.high if self.high_open else value <= self.high
+        return above and below
+
+    @property
+    def rule(self) -> str:
+        """The range in words, e.g. 'must be > 0', 'must be >= 0 and <= 20'."""
+        low = f"{'>' if self.low_open else '>='} {self.low:g}"
+        high = f"{'<' if self.high_open else '<='} {self.high:g}"
+        if math.isinf(self.high):
+            return f"must be {low}"
+        if math.isinf(self.low):
+            return f"must be {high}"
+        return f"must be {low} and {high}"
+
+    def or_blank(self) -> Column:
+        return replace(self, blank=True)
+
+
+NUMBER = Column()
+POSITIVE = Column(low=0.0, low_open=True)
+NON_NEGATIVE = Column(low=0.0)
+ANGLE_DEG = Column(0.0, 90.0, low_open=True, high_open=True)
+TEXT = Column(text=True)
 
 
 def read_csv(path: Path, **options: object) -> pd.DataFrame:
@@ -41,27 +78,83 @@ def read_csv(path: Path, **options: object) -> pd.DataFrame:
         raise ConfigError(f"{path}: cannot read CSV: {str(exc).splitlines()[0]}") from None
 
 
-def read_table(path: Path, columns: Mapping[str, RowCheck]) -> pd.DataFrame:
-    """Read a CSV and check each named column, cell by cell; blank cells are allowed (NaN).
+def read_table(path: Path, columns: Mapping[str, Column], rows: int | None = None) -> pd.DataFrame:
+    """A CSV (UTF-8, a byte-order mark allowed) as a table of the named columns, each cell checked.
 
-    A missing column, a non-numeric cell or a cell failing its check raises `ConfigError` naming the
-    file, the line (header = line 1) and the column.
+    The header names each column once; every named column is there; every data row has no more cells
+    than the header (fewer: the missing ones are blank); a numeric cell is a finite number within its
+    column's range, a blank cell only where the column allows it; there is at least one data row, and
+    exactly `rows` if given. Any fault raises `ConfigError` naming the file, the line (counted in the
+    file, the header's included) and the column. Returns the named columns only, numbers as floats,
+    blank cells as NaN (text columns: ''), indexed by each row's line in the file (`line`).
     """
-    table = read_csv(path)
-    for name, (check, rule) in columns.items():
-        if name not in table.columns:
+    try:
+        text = path.read_bytes().decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(
+            f"{path}: not UTF-8 text (byte {exc.start}): a binary file, or another encoding"
+        ) from None
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+    if "\0" in text:
+        raise ConfigError(f"{path}: holds a NUL character: a binary file, not a CSV table")
+    lines = csv.reader(io.StringIO(text, newline=""))
+    try:
+        records = [(lines.line_num, row) for row in lines if any(cell.strip() for cell in row)]
+    except csv.Error as exc:
+        raise ConfigError(f"{path}: line {lines.line_num}: not a CSV table: {exc}") from None
+    if not records:
+        raise ConfigError(f"{path}: the file is empty (a header line and data rows are expected)")
+    header_line, header = records[0][0], [cell.strip() for cell in records[0][1]]
+    for k, name in enumerate(header):
+        if name in header[:k]:
+            raise ConfigError(f"{path}: line {header_line}: column '{name}' is named twice")
+    body = records[1:]
+    if not body:
+        raise ConfigError(f"{path}: no data rows under the header")
+    if rows is not None and len(body) != rows:
+        raise ConfigError(f"{path}: {len(body)} data rows, where the table has {rows}")
+    for line, row in body:
+        if len(row) > len(header):
+            raise ConfigError(f"{path}: line {line}: {len(row)} cells, the header names {len(header)}")
+    table = {}
+    for name, column in columns.items():
+        if name not in header:
             raise ConfigError(f"{path}: missing column '{name}'")
-        values = pd.to_numeric(table[name], errors="coerce")
-        for row, (raw, value) in enumerate(zip(table[name], values, strict=True)):
-            line = row + 2
-            if pd.isna(raw):
-                continue
-            if pd.isna(value) or not np.isfinite(value):
-                raise ConfigError(f"{path}: line {line}: column '{name}': not a number: {raw!r}")
-            if not check(float(value)):
-                raise ConfigError(f"{path}: line {line}: column '{name}' {rule}, got {value:g}")
-        table[name] = values
-    return table
+        k = header.index(name)
+        cells = [(line, row[k].strip() if k < len(row) else "") for line, row in body]
+        table[name] = [_cell(path, line, name, raw, column) for line, raw in cells]
+    return pd.DataFrame(table, index=pd.Index([line for line, _ in body], name="line"))
+
+
+def _cell(path: Path, line: int, name: str, raw: str, column: Column) -> float | str:
+    """One cell's value, checked against its column."""
+    where = f"{path}: line {line}: column '{name}'"
+    if not raw:
+        if not column.blank:
+            raise ConfigError(f"{where}: blank, a value is needed")
+        return "" if column.text else math.nan
+    if column.text:
+        return raw
+    try:
+        value = float(raw)
+    except ValueError:
+        raise ConfigError(f"{where}: not a number: {raw!r}") from None
+    if not math.isfinite(value):
+        raise ConfigError(f"{where}: not a finite number: {raw!r}")
+    if not column.holds(value):
+        raise ConfigError(f"{where} {column.rule}, got {value:g}")
+    return value
+
+
+def require_distinct(table: pd.DataFrame, path: Path, name: str, purpose: str, where: str = "") -> None:
+    """ConfigError unless column `name` holds at least two different values (`purpose`: what needs
+    them, e.g. 'a line is fitted through them'; `where`: which rows, e.g. ' at sigma_n_MPa = 0.05')."""
+    found = table[name].nunique()
+    if found < 2:
+        raise ConfigError(
+            f"{path}: column '{name}' needs at least 2 different values{where} ({purpose}), got {found}"
+        )
 
 
 @dataclass

@@ -9,8 +9,8 @@ from typing import Literal, Protocol
 
 import pandas as pd
 
+from bbmc import paper_tables
 from bbmc.config import InputFile, Section
-from bbmc.io import ANY, POSITIVE, read_table
 from bbmc.joint import model as jm
 
 Coefficients = Literal["printed", "fitted"]  # eq 4's coefficients: as printed, or our Table 1 fits
@@ -45,12 +45,9 @@ class JointModelConfig(Protocol):
 def load_inputs(data: Inputs) -> dict[str, pd.DataFrame]:
     """Table 1 (for fitted coefficients), Table 3's loads and the printed constants, checked."""
     return {
-        "table1": read_table(
-            data.table1,
-            {c: POSITIVE for c in ["sigma_n_MPa", "tau_p_MPa", "K_si_GPa_per_m", "tau_ult_MPa"]},
-        ),
-        "table3": read_table(data.table3, {"sigma_n_MPa": POSITIVE, "tau_MPa": POSITIVE}),
-        "constants": read_table(data.equation_constants, {"equation": POSITIVE, "value": ANY}),
+        "table1": paper_tables.read("table1_measurements", data.table1),
+        "table3": paper_tables.read("table3_numerical_tests", data.table3, ["sigma_n_MPa", "tau_MPa"]),
+        "constants": paper_tables.read("equation_constants", data.equation_constants),
     }
 
 
@@ -58,7 +55,7 @@ def parameters(
     config: JointModelConfig, inputs: dict[str, pd.DataFrame]
 ) -> tuple[jm.StrengthParameters, jm.StiffnessParameters]:
     """The SI parameter sets this config asks for."""
-    printed = jm.printed_constants(inputs["constants"])
+    printed = paper_tables.printed_constants(inputs["constants"])
     if config.stiffness_coefficients == "fitted":
         printed |= jm.fitted_coefficients(inputs["table1"])
     j, e = config.joint, config.errata

@@ -6,6 +6,8 @@ so figures render on machines without a screen.
 
 from __future__ import annotations
 
+import itertools
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -56,9 +58,7 @@ def fig2(
     axes = fig.subplots(2, 2)
     inverse = fits[fits["relation"] == "inverse_tau_vs_inverse_dh"]
     ax = axes[0, 0]
-    for colour, (row, legend) in zip(
-        COLOURS, zip(inverse.itertuples(), legends.itertuples(), strict=True), strict=False
-    ):
+    for colour, row in zip(itertools.cycle(COLOURS), inverse.itertuples(), strict=False):
         points = table3[np.isclose(table3["sigma_n_MPa"], row.sigma_n_MPa)]
         x_unit, y_unit = row.x_unit, row.y_unit
         scale_d = 1.0 if x_unit == "1/mm" else 1e-3
@@ -75,13 +75,11 @@ def fig2(
             color=colour,
             label=f"  ours: $\\tau^{{-1}} = {row.a:.4f}\\,d_h^{{-1}} {row.b:+.4f}$ (n = {row.n_points})",
         )
-        ax.plot(
-            grid,
-            legend.slope_a * grid + legend.intercept_b,
-            ":",
-            color=colour,
-            label=f"  paper legend: $\\tau^{{-1}} = {legend.slope_a}\\,d_h^{{-1}} {legend.intercept_b:+}$",
-        )
+        at = np.isclose(legends["sigma_n_kPa"], kpa)  # the paper's legend at this normal stress, if any
+        for legend in legends[at].itertuples():
+            a, b = legend.slope_a, legend.intercept_b
+            label = f"  paper legend: $\\tau^{{-1}} = {a}\\,d_h^{{-1}} {b:+}$"
+            ax.plot(grid, a * grid + b, ":", color=colour, label=label)
     ax.set(
         xlabel=f"$1/d_h$ [{x_unit}]",
         ylabel=f"$1/\\tau$ [{y_unit}]",

@@ -111,13 +111,12 @@ def equation_checks(log: AuditLog, ctx: AuditInputs) -> None:
         f"printed {p.eq18_k_j / units.MPa_per_mm:g} is D alone, K_j = {p.k_j / units.GPa_per_m:g} dropped.",
         corrected=d * p.k_j / units.MPa_per_mm,
     )
-    row = ctx.table3[np.isclose(ctx.table3["sigma_n_MPa"], 0.2)].iloc[0]
     half = 0.5 * float(tau_p[0])
     k_paper = jm.stiffness_state(top, half, p)["K_st_uncorrected"][0]
     k_bandis = jm.stiffness_state(top, half, replace(p, form="corrected"))["K_st_uncorrected"][0]
     log.check(
         "Eq 3",
-        f"sigma_n = {row.sigma_n_MPa:g} MPa, tau = tau_p/2",
+        f"sigma_n = {top[0] / units.MPa:g} MPa, tau = tau_p/2",
         "K_st [MPa/mm]",
         "K_MPa_per_mm",
         k_paper / units.MPa_per_mm,

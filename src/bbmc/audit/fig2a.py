@@ -11,10 +11,9 @@ from bbmc.audit.log import AuditInputs, AuditLog
 
 def fig2a_unit_checks(log: AuditLog, ctx: AuditInputs) -> None:
     """What the Fig 2a legends imply (tau in kPa, d_h in mm) against Table 1 and Table 3."""
-    table1 = ctx.table1.set_index("sigma_n_MPa")
     for legend in ctx.legends.itertuples():
         sigma_n = legend.sigma_n_kPa * units.kPa / units.MPa
-        measured = table1.loc[sigma_n]
+        measured = ctx.table1[np.isclose(ctx.table1["sigma_n_MPa"], sigma_n)].iloc[0]
         implied_k = (1.0 / legend.slope_a) * units.kPa_per_mm / units.GPa_per_m
         log.check(
             "Fig 2a vs Table 1",

@@ -30,24 +30,39 @@ def table4_checks(log: AuditLog, ctx: AuditInputs) -> None:
         f"Eq 8 gives K_n = 10.7 MPa/mm at sigma_n = {sigma_for_kn / units.MPa:.3f} MPa, where eq 18 gives "
         "K_s far lower: no normal stress makes both laws give 10.7. The constants are not derived.",
     )
-    c_target = float(constant["c_kPa"]) * units.kPa
-    root = optimize.brentq(
-        lambda s: jm.strength_state(np.array([s]), table4_set)["c"][0] - c_target, 1e3, table4_set.jcs * 0.999
-    )
-    phi_there = jm.strength_state(np.array([root]), table4_set)["phi"][0] / units.deg
+    c_kPa, phi_paper = float(constant["c_kPa"]), float(constant["phi_deg"])
+    item, quantity = "constant model", f"phi [deg] paired with c = {c_kPa:g} kPa by eq 15"
     grid = np.geomspace(1e-3, 100.0, 2000) * units.MPa
     phi_range = jm.strength_state(grid, table4_set)["phi"] / units.deg
-    log.check(
-        "Table 4",
-        "constant model",
-        "phi [deg] paired with c = 5.4 kPa by eq 15",
-        "table4_angle",
-        float(constant["phi_deg"]),
-        float(phi_there),
-        f"Eq 15 with Table 4's set gives c = 5.4 kPa at sigma_n = {root / units.MPa:.3f} MPa, where phi = "
-        f"{phi_there:.2f} deg; over 0.001-100 MPa its phi stays within {phi_range.min():.1f}-"
-        f"{phi_range.max():.1f} deg, so 14.51 deg cannot come from it.",
-    )
+    span = f"over 0.001-100 MPa its phi stays within {phi_range.min():.1f}-{phi_range.max():.1f} deg"
+
+    def c_above_paper(sigma_n: float) -> float:
+        return jm.strength_state(np.array([sigma_n]), table4_set)["c"][0] - c_kPa * units.kPa
+
+    low, high = 1e3, table4_set.jcs * 0.999
+    if not (low < high and c_above_paper(low) * c_above_paper(high) < 0):
+        log.not_derivable(
+            "Table 4",
+            item,
+            quantity,
+            "deg",
+            phi_paper,
+            np.nan,
+            f"Eq 15 with Table 4's set gives c = {c_kPa:g} kPa at no sigma_n from 1 kPa to JCS; {span}.",
+        )
+    else:
+        root = optimize.brentq(c_above_paper, low, high)
+        phi_there = jm.strength_state(np.array([root]), table4_set)["phi"][0] / units.deg
+        log.check(
+            "Table 4",
+            item,
+            quantity,
+            "table4_angle",
+            phi_paper,
+            float(phi_there),
+            f"Eq 15 with Table 4's set gives c = {c_kPa:g} kPa at sigma_n = {root / units.MPa:.3f} MPa, "
+            f"where phi = {phi_there:.2f} deg; {span}, so {phi_paper:g} deg cannot come from it.",
+        )
     rock2, rock4 = ctx.table2.iloc[0], ctx.table4_rock.iloc[0]
     log.check(
         "Table 4",

@@ -103,6 +103,17 @@ def _least_overlap(world, vertex_start, vertex_next, a, b):
 
 
 @numba.njit(cache=True)
+def overlap_depth(pairs, world, vertex_start, vertex_next):
+    """For each block pair, how deep the two convex blocks overlap [m]: the least overlap of their
+    projections on the normals of their edges, which is the shortest move that parts them (separating
+    axes); <= 0 where they touch or are apart."""
+    depth = np.empty(pairs.shape[0])
+    for k in range(pairs.shape[0]):
+        depth[k] = _least_overlap(world, vertex_start, vertex_next, pairs[k, 0], pairs[k, 1])
+    return depth
+
+
+@numba.njit(cache=True)
 def _depth_bound(world, vertex_start, vertex_next, size, margin, a, b):
     """How deep two edges of blocks a and b may be inside each other and still be a contact [m]."""
     depth = min(0.25 * min(size[a], size[b]), _least_overlap(world, vertex_start, vertex_next, a, b))

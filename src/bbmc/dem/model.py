@@ -14,8 +14,8 @@ import numpy as np
 
 from bbmc import laws, units
 from bbmc.config import ConfigError
+from bbmc.dem import detection, polygons
 from bbmc.dem import layout as L
-from bbmc.dem import polygons
 from bbmc.dem.scene import (
     BartonBandisLaw,
     BlockEntry,
@@ -169,7 +169,7 @@ def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]
 def _shapes(
     entry: BlockEntry, path: Path, key: str
 ) -> tuple[list[np.ndarray], list[list[str]], list[list[str]] | None, list[list[int]]]:
-    """The entry's blocks (counter-clockwise, turned as asked), the degrees of freedom held for each,
+    """The entry's blocks (vertices as given, not yet turned), the degrees of freedom held for each,
     their edges' labels (a rock mass's; None: from `edge_labels`) and the vertices of each that may be
     straight angles (where an edge's label changes)."""
     labels, straight = None, None
@@ -191,13 +191,6 @@ def _shapes(
         else:
             shapes = polygons.GENERATORS["brick_wall"](**entry.brick_wall.model_dump())
         held = [[] for _ in shapes]
-    shapes = [polygons.counter_clockwise(s) for s in shapes]
-    if entry.rotate_deg:
-        turned = []
-        for s in shapes:
-            about = np.array(entry.rotate_about_m) if entry.rotate_about_m else polygons.mass_properties(s)[1]
-            turned.append(polygons.rotated(s, entry.rotate_deg * units.deg, about))
-        shapes = turned
     fixed = [sorted(set(h) | set(entry.fix)) for h in held]
     return shapes, fixed, labels, straight or [[] for _ in shapes]
 
@@ -234,6 +227,17 @@ def _edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[
     if polygons.polygon_area(np.array(entry.polygon_m, dtype=float)) > 0.0:
         return list(entry.edge_labels)
     return [entry.edge_labels[(n_edges - 2 - i) % n_edges] for i in range(n_edges)]
+
+
+def _turned(shapes: list[np.ndarray], entries: list[BlockEntry]) -> list[np.ndarray]:
+    """Each shape turned as its entry asks (about its own centroid unless the entry gives a point)."""
+    turned = []
+    for shape, entry in zip(shapes, entries, strict=True):
+        if entry.rotate_deg:
+            about = entry.rotate_about_m or polygons.mass_properties(shape)[1]
+            shape = polygons.rotated(shape, entry.rotate_deg * units.deg, np.array(about))
+        turned.append(shape)
+    return turned
 
 
 def _mobilized_law_row(law: MobilizedLaw, p: np.ndarray) -> tuple[list[int], np.ndarray]:
@@ -323,9 +327,76 @@ def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> 
     return int(np.argmax(normals @ direction))
 
 
+def _start_overlap_fault(
+    shapes: list[np.ndarray],
+    names: list[str],
+    vertex_start: np.ndarray,
+    vertex_next: np.ndarray,
+    sizes: np.ndarray,
+    scene: Scene,
+) -> str | None:
+    """Why the blocks cannot start where they are, or None: they span more than floating point holds,
+    or two of them overlap deeper than `contacts.interpenetration_limit` x the smaller one's size (the
+    depth at which a run warns). Every pair whose boxes meet is measured (the contact search's broad
+    phase, then separating axes), held blocks included."""
+    world = np.concatenate(shapes)
+    span = float(np.max(np.ptp(world, axis=0)))
+    if not np.isfinite(span):
+        return "the blocks lie too far apart for floating point (their span is not a finite number)"
+    pairs = detection.candidate_pairs(world, vertex_start, np.zeros(len(shapes), dtype=np.bool_), 0.0)
+    if not len(pairs):
+        return None
+    depth = detection.overlap_depth(pairs, world, vertex_start, vertex_next)
+    relative = depth / np.minimum(sizes[pairs[:, 0]], sizes[pairs[:, 1]])
+    limit = scene.contacts.interpenetration_limit
+    deep = np.flatnonzero(relative > limit)
+    if not len(deep):
+        return None
+    k = deep[np.argmax(relative[deep])]
+    a, b = pairs[k]
+    others = f"; {len(deep) - 1} other pairs overlap too" if len(deep) > 1 else ""
+    return (
+        f"blocks '{names[a]}' and '{names[b]}' overlap by {depth[k]:.3g} m at the start, "
+        f"{100 * relative[k]:.3g} % of the smaller one's size (contacts.interpenetration_limit: "
+        f"{100 * limit:.3g} %){others}"
+    )
+
+
+def _check_shapes(
+    shapes: list[np.ndarray],
+    vertex_start: np.ndarray,
+    may_be_straight: np.ndarray,
+    names: list[str],
+    keys: list[str],
+    path: Path,
+) -> None:
+    """ConfigError naming the first block whose shape cannot be a rigid convex block (a vertex marked in
+    `may_be_straight` may be a straight angle)."""
+    faults = polygons.shape_faults(np.concatenate(shapes), vertex_start, may_be_straight)
+    if faults:
+        i = min(faults)
+        raise _error(path, keys[i], f"block '{names[i]}': {faults[i]}")
+
+
+def _check_inertia(blocks: np.ndarray, names: list[str], entries: list[BlockEntry], path: Path) -> None:
+    """ConfigError naming the first block whose mass or moment of inertia (density x area, density x
+    second moment of area) is not a positive normal floating-point number: the engine divides by both."""
+    inertia = blocks[:, [L.MASS, L.INERTIA]]
+    sound = np.all(np.isfinite(inertia) & (inertia >= np.finfo(float).tiny), axis=1)
+    if not sound.all():
+        i = int(np.argmin(sound))
+        mass, moment = inertia[i]
+        raise _error(
+            path,
+            f"materials.{entries[i].material}.density_kg_m3",
+            f"block '{names[i]}': its mass ({mass:.3g} kg) and moment of inertia ({moment:.3g} kg m^2) "
+            "are beyond floating point",
+        )
+
+
 def build_model(scene: Scene, path: Path) -> Model:
     """Check every reference of the scene and assemble the engine's arrays."""
-    names, groups, shapes, entries, fixed, labels = [], [], [], [], [], []
+    names, shape_keys, groups, shapes, entries, fixed, labels, straight = [], [], [], [], [], [], [], []
     for i, entry in enumerate(scene.blocks):
         key = f"blocks.{i}"
         if entry.material not in scene.materials:
@@ -335,20 +406,32 @@ def build_model(scene: Scene, path: Path) -> Model:
         family = (
             entry.brick_wall is not None or entry.jointed_slope is not None or entry.rock_mass is not None
         )
-        shapes_of_entry, held, labels_of_entry, straight = _shapes(entry, path, key)
+        shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
+        try:
+            shapes_of_entry, held, labels_of_entry, straight_of_entry = _shapes(entry, path, key)
+        except ValueError as error:  # a generator asked for more blocks than it makes
+            raise _error(path, f"{key}.{shape_key}", str(error)) from None
         for k, shape in enumerate(shapes_of_entry):
-            fault = polygons.convexity_fault(shape, straight[k])
-            if fault:
-                shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
-                raise _error(path, f"{key}.{shape_key}", f"block {k}: {fault}" if family else fault)
             labels.append(
                 labels_of_entry[k] if labels_of_entry else _edge_labels(entry, len(shape), path, key)
             )
+            straight.append(straight_of_entry[k])
             names.append(f"{entry.name}.{k}" if family else entry.name)
+            shape_keys.append(f"{key}.{shape_key}")
             groups.append(entry.group or entry.name)
             shapes.append(shape)
             entries.append(entry)
             fixed.append(held[k])
+    counts = np.array([len(s) for s in shapes])
+    vertex_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    may_be_straight = np.zeros(vertex_start[-1], dtype=bool)
+    for i, vertices in enumerate(straight):
+        may_be_straight[vertex_start[i] + np.asarray(vertices, dtype=np.int64)] = True
+    _check_shapes(shapes, vertex_start, may_be_straight, names, shape_keys, path)
+    shapes = [polygons.counter_clockwise(s) for s in shapes]
+    if any(entry.rotate_deg for entry in scene.blocks):
+        shapes = _turned(shapes, entries)
+        _check_shapes(shapes, vertex_start, may_be_straight, names, shape_keys, path)
     seen: dict[str, int] = {}
     for i, name in enumerate(names):
         if name in seen:
@@ -360,8 +443,6 @@ def build_model(scene: Scene, path: Path) -> Model:
     n = len(shapes)
     blocks = np.zeros((n, L.BLOCK_COLUMNS))
     dof = np.zeros((n, 3), dtype=np.int64)
-    counts = np.array([len(s) for s in shapes])
-    vertex_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     vertex_block = np.repeat(np.arange(n), counts).astype(np.int64)
     vertex_next = np.empty(vertex_start[-1], dtype=np.int64)
     local = np.empty((vertex_start[-1], 2))
@@ -390,6 +471,11 @@ def build_model(scene: Scene, path: Path) -> Model:
                 blocks[i, L.VPX + d] = value
                 blocks[i, L.VX + d] = value if velocity.start_step == 0 else 0.0
         blocks[i, L.VSTART] = velocity.start_step if velocity else 0
+    _check_inertia(blocks, names, entries, path)
+
+    overlap = _start_overlap_fault(shapes, names, vertex_start, vertex_next, blocks[:, L.SIZE], scene)
+    if overlap:
+        raise _error(path, "blocks", overlap)
 
     law_names = list(scene.joint_laws)
     rows = [_joint_law_row(law) for law in scene.joint_laws.values()]

@@ -14,6 +14,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import Section
+from bbmc.dem.polygons import MAX_BLOCKS
 from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
 from bbmc.rockmass.config import RockMassConfig
@@ -25,6 +26,12 @@ NonNegative = Annotated[float, Field(ge=0)]
 Steps = Annotated[int, Field(ge=0)]
 Dof = Literal["x", "y", "rotation"]
 AfterSlip = Literal["zero", "keep"]  # keep: ductile (limit equilibrium's); zero: UDEC's Coulomb slip
+
+
+def name_part(value: float) -> str:
+    """A number as part of a scene's name (letters, digits, _ and - only): 0.15 -> 0p15, 5.5e+298 ->
+    5p5e298 (a name made with the '+' of an exponent was refused, a traceback)."""
+    return f"{value:g}".replace(".", "p").replace("+", "")
 
 
 def _exactly_one(model: Section, keys: tuple[str, ...], what: str) -> None:
@@ -51,6 +58,14 @@ class BrickWall(Section):
     block_width_m: Positive
     block_height_m: Positive
     row_offset: Annotated[float, Field(ge=0, lt=1)] = 0.0
+
+    @model_validator(mode="after")
+    def _not_too_many(self) -> BrickWall:
+        if self.columns * self.rows > MAX_BLOCKS:
+            raise ValueError(
+                f"columns x rows is {self.columns * self.rows:,} blocks, more than {MAX_BLOCKS:,}"
+            )
+        return self
 
 
 class JointSet(Section):

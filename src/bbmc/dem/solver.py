@@ -272,8 +272,16 @@ def _check_health(model: Model, state: State) -> None:
         if not finite[i]
         else (f"moved {travel[i]:.2g} of its size in one step")
     )
-    critical = _critical(model, state) if np.all(finite) else math.nan
-    if not dt <= critical:
+    try:
+        critical = _critical(model, state) if np.all(finite) else math.nan
+    except ZeroDivisionError:  # a block thrown so far that its vertices merge in floating point
+        critical = math.nan
+    if math.isnan(critical):
+        cause = (
+            f"time step {dt:.3g} s above the critical step, or a load too large for the joints (the state "
+            "left floating point before the critical step could be judged)"
+        )
+    elif not dt <= critical:
         cause = (
             f"time step {dt:.3g} s above the critical step ({critical:.3g} s now), e.g. a fixed step or a "
             f"joint stiffness that grew faster than the update interval "

@@ -256,8 +256,8 @@ def factor_of_safety(
         factor = max(0.5 * hi, 1.0 / largest)
         lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
     bracketed = lo > 0.0 and hi < math.inf
-    while bracketed and hi - lo > settings.tolerance:
-        factor = 0.5 * (lo + hi)
+    while bracketed and hi - lo > settings.tolerance and lo < 0.5 * (lo + hi) < hi:
+        factor = 0.5 * (lo + hi)  # (a tolerance finer than round-off ends at adjacent numbers)
         lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
     fs = 0.5 * (lo + hi) if bracketed else (lo if hi == math.inf else hi)
     return StrengthReductionResult(

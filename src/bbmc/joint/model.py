@@ -82,11 +82,6 @@ class StiffnessParameters:
     simplified: Choice
 
 
-def printed_constants(table: pd.DataFrame) -> dict[str, float]:
-    """The paper's printed coefficients by name, e.g. ``eq4.K_j``, from equation_constants.csv."""
-    return {f"eq{int(r.equation)}.{r.name}": float(r.value) for r in table.itertuples()}
-
-
 def strength_parameters(
     jrc: float, jcs_MPa: float, phi_b_deg: float, phi_max_deg: float, k: Choice, printed: float
 ) -> StrengthParameters:
@@ -119,7 +114,7 @@ def fitted_coefficients(table1: pd.DataFrame) -> dict[str, float]:
 def stiffness_parameters(
     constants: dict[str, float], lg_e: Choice, form: Choice, simplified: Choice
 ) -> StiffnessParameters:
-    """SI stiffness parameters from coefficients named as in `printed_constants` (boundary units)."""
+    """SI stiffness parameters from coefficients named as in `paper_tables.CONSTANTS` (boundary units)."""
     return StiffnessParameters(
         k_j=constants["eq4.K_j"] * units.GPa_per_m,
         n_j=constants["eq4.n_j"],

@@ -7,8 +7,8 @@ import pandas as pd
 from pydantic import Field, model_validator
 
 from bbmc import paper_inputs as pi
+from bbmc import paper_tables
 from bbmc.config import InputFile, Section
-from bbmc.io import ANY, POSITIVE, read_table
 from bbmc.joint import model as jm
 from bbmc.shear import box
 
@@ -67,22 +67,8 @@ class Config(Section):
 
 def load_inputs(config: Config) -> dict[str, pd.DataFrame]:
     inputs = pi.load_inputs(config.data)
-    inputs["table2"] = read_table(config.data.table2, {"density_kg_per_m3": POSITIVE})
-    inputs["table3"] = read_table(
-        config.data.table3,
-        {
-            "sigma_n_MPa": POSITIVE,
-            "tau_MPa": POSITIVE,
-            "d_h_test_mm": POSITIVE,
-            "d_h_numerical_uncorrected_mm": POSITIVE,
-            "d_h_numerical_corrected_mm": POSITIVE,
-            "K_st_uncorrected_MPa_per_mm": ANY,
-            "K_st_corrected_MPa_per_mm": POSITIVE,
-            "Phi_deg": ANY,
-            "C_kPa": ANY,
-        },
-    )
-    inputs["legends"] = read_table(
-        config.data.fig2a_legends, {"sigma_n_kPa": POSITIVE, "slope_a": ANY, "intercept_b": ANY}
-    )
+    d = config.data
+    inputs["table2"] = paper_tables.read("table2_rock", d.table2, ["density_kg_per_m3"])
+    inputs["table3"] = paper_tables.read("table3_numerical_tests", d.table3)
+    inputs["legends"] = paper_tables.read("fig2a_legends", d.fig2a_legends, paper_tables.LEGEND_CURVES)
     return inputs

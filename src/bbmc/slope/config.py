@@ -5,12 +5,13 @@ paper's slope (the sweep's base, the benchmarks)."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated
 
 from pydantic import Field, model_validator
 
+from bbmc import paper_tables
 from bbmc.config import InputFile, Section, load_config
 from bbmc.dem.scene import JointedSlope, StrengthReduction
-from bbmc.io import ANY, POSITIVE, read_table
 from bbmc.slope import model as sm
 
 
@@ -57,7 +58,7 @@ class Residual(Section):
     """The slope with the full Barton-Bandis joint (residual strength after slip) against the peak-only
     joint (`slope.safety.residual_comparison`); the paper gives no r/R, so phi_r is a list to try."""
 
-    phi_r_deg: list[float] = Field(min_length=1)
+    phi_r_deg: list[Annotated[float, Field(gt=0, lt=90)]] = Field(min_length=1)  # each <= Table 4's phi_b
     lab_length_m: float = Field(gt=0)  # Table 4's JRC and JCS are taken at this length
     field_length_m: float = Field(gt=0)  # the joints' length in the slope
     update_interval_steps: int = Field(ge=1)
@@ -102,26 +103,15 @@ def load_paper_slope(path: str | Path) -> tuple[Config, sm.Table4]:
 
 def load_table4(data: Inputs) -> sm.Table4:
     """Table 4 (rock mass, constant and nonlinear joints) and the printed lg e, from the data files."""
-    rock = read_table(data.table4_rock_mass, {"density_kg_per_m3": POSITIVE})
-    constant = read_table(
-        data.table4_joints_constant,
-        {c: POSITIVE for c in ("K_s_MPa_per_mm", "K_n_MPa_per_mm", "phi_deg", "c_kPa")},
+    rock = paper_tables.read("table4_rock_mass", data.table4_rock_mass, ["density_kg_per_m3"])
+    constant = paper_tables.read("table4_joints_constant", data.table4_joints_constant)
+    nonlinear = paper_tables.read("table4_joints_nonlinear", data.table4_joints_nonlinear)
+    constants = paper_tables.printed_constants(
+        paper_tables.read("equation_constants", data.equation_constants)
     )
-    columns = (
-        "K_st_coefficient_MPa_per_mm",
-        "K_st_exponent",
-        "K_n_coefficient_per_mm",
-        "phi_b_deg",
-        "JRC",
-        "JCS_MPa",
-        "eq15_coefficient",
-    )
-    nonlinear = read_table(data.table4_joints_nonlinear, {c: POSITIVE for c in columns})
-    constants = read_table(data.equation_constants, {"equation": POSITIVE, "value": ANY})
-    lg_e = constants.loc[constants["name"] == "lg_e", "value"]
     return sm.Table4(
         density_kg_m3=float(rock["density_kg_per_m3"].iloc[0]),
         constant={k: float(v) for k, v in constant.iloc[0].items()},
         nonlinear={k: float(v) for k, v in nonlinear.iloc[0].items()},
-        printed_lg_e=float(lg_e.iloc[0]),
+        printed_lg_e=constants["eq6.lg_e"],
     )

@@ -220,6 +220,8 @@ def fs_vs_dip(sweep: pd.DataFrame, critical: pd.DataFrame, dpi: int) -> Figure:
         )
         ax.scatter(slid["dip_deg"], slid["factor_of_safety"], marker="x", color=colour)
         row = critical[critical["model"] == kind].iloc[0]
+        if not np.isfinite(row["limit_equilibrium_dip_deg"]):
+            continue  # FS does not cross 1 between 0.5 and 89.5 deg
         ax.axvline(
             row["engine_dip_deg"],
             color=colour,

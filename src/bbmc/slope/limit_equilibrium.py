@@ -54,10 +54,15 @@ def factor_of_safety(law: dict, dip_deg: float, thickness_m: float, density_kg_m
 
 
 def critical_dip(law: dict, thickness_m: float, density_kg_m3: float, low: float, high: float) -> float:
-    """The dip [deg] where FS = 1 (Brent's method; FS must cross 1 between low and high)."""
-    return brentq(
-        lambda dip: factor_of_safety(law, dip, thickness_m, density_kg_m3) - 1.0, low, high, xtol=1e-10
-    )
+    """The dip [deg] where FS = 1 (Brent's method), or NaN where FS does not cross 1 between low and
+    high (a block that holds, or slides, at every dip there)."""
+
+    def excess(dip: float) -> float:
+        return factor_of_safety(law, dip, thickness_m, density_kg_m3) - 1.0
+
+    if not excess(low) * excess(high) < 0:
+        return math.nan
+    return brentq(excess, low, high, xtol=1e-10)
 
 
 def block_scene(
@@ -113,16 +118,21 @@ def block_scene(
     }
 
 
+class UndecidedError(ValueError):
+    """The engine's block neither came to rest nor slid within its steps, or the bracket of a critical
+    dip does not hold at one end and slide at the other."""
+
+
 def engine_slides(scene: dict) -> bool:
     """Run the block: True if it moved `slide_m` (slides), False if it came to rest (holds).
-    ValueError if it did neither within max_steps (creeping too close to FS = 1 to decide)."""
+    UndecidedError if it did neither within max_steps (creeping too close to FS = 1 to decide)."""
     model = build_model(Scene.model_validate(scene, strict=False), Path(f"{scene['name']}.yaml"))
     summary = simulate(model).summary.set_index("quantity")["value"]
     if summary["stopped_by_displacement"]:
         return True
     if summary["stopped_by_equilibrium"]:
         return False
-    raise ValueError(f"undecided after {int(summary['steps'])} steps")
+    raise UndecidedError(f"undecided after {int(summary['steps'])} steps")
 
 
 def engine_critical_dip(
@@ -130,8 +140,8 @@ def engine_critical_dip(
 ) -> float:
     """Bisect the dip [deg] at which `slides(dip)` turns True (it must hold at low and slide at high)."""
     if slides(low) or not slides(high):
-        raise ValueError(f"the engine's block must hold at {low} deg and slide at {high} deg")
-    while high - low > tolerance_deg:
+        raise UndecidedError(f"the engine's block must hold at {low:g} deg and slide at {high:g} deg")
+    while high - low > tolerance_deg and low < 0.5 * (low + high) < high:  # (or adjacent numbers)
         middle = 0.5 * (low + high)
         low, high = (low, middle) if slides(middle) else (middle, high)
     return 0.5 * (low + high)

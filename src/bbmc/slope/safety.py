@@ -21,7 +21,7 @@ import pandas as pd
 from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
-from bbmc.dem.scene import Scene
+from bbmc.dem.scene import Scene, name_part
 from bbmc.dem.solver import simulate
 from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.joint.derived import full_joint
@@ -163,7 +163,7 @@ def residual_comparison(config: Config, table4: sm.Table4) -> pd.DataFrame:
     displacement of a free block after run.duration_s from the start (the dynamic run of Figs 8-10)."""
     r = config.residual
     joints = {"peak_only": peak_only_law(table4), "peak_only_field_scale": peak_only_law(table4, r)} | {
-        f"mobilized_phi_r_{phi:g}".replace(".", "p"): mobilized_law(table4, r, phi) for phi in r.phi_r_deg
+        f"mobilized_phi_r_{name_part(phi)}": mobilized_law(table4, r, phi) for phi in r.phi_r_deg
     }
     rows = []
     for name, law in joints.items():

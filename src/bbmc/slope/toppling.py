@@ -117,6 +117,8 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
+from bbmc.dem.polygons import MAX_BLOCKS
+
 #: Mode codes of the internal march and the strings the tables carry.
 STABLE, TOPPLES, SLIDES = 0, 1, 2
 MODE_NAMES = ("stable", "topples", "slides")
@@ -217,8 +219,10 @@ def regular_system(
         raise ValueError("a1 − b ≤ 0: block heights do not grow towards the crest")
     y_crest = crest_block * (a1 - b)
     if n_blocks is None:
-        n_above = math.floor(y_crest / (a2 + b) - 1e-12) if a2 + b > 0 else 0
-        n_blocks = crest_block + max(n_above, 0)
+        above = y_crest / (a2 + b) - 1e-12 if a2 + b > 0 else 0.0
+        n_blocks = crest_block + max(math.floor(above), 0) if above < MAX_BLOCKS else MAX_BLOCKS + 1
+    if n_blocks > MAX_BLOCKS:
+        raise ValueError(f"the system would have more than {MAX_BLOCKS:,} blocks")
     n = np.arange(1, n_blocks + 1)
     heights = np.where(n <= crest_block, n * (a1 - b), y_crest - (n - crest_block) * (a2 + b))
     upper = np.where(n < crest_block, heights, heights - a2)

@@ -15,10 +15,10 @@ import numpy as np
 import pandas as pd
 from pydantic import Field
 
-from bbmc import laws, plots, units
+from bbmc import laws, paper_tables, plots, units
 from bbmc.config import InputFile, Section
 from bbmc.fitting import Fit, linear_fit, power_law_fit
-from bbmc.io import ANY, POSITIVE, StageResult, read_table
+from bbmc.io import StageResult, require_distinct
 from bbmc.paper_inputs import Fig2aUnits
 
 NAME = "fit"
@@ -46,20 +46,17 @@ class Config(Section):
 
 
 def load_inputs(config: Config) -> dict[str, pd.DataFrame]:
-    """The three input tables, checked row by row."""
+    """The three input tables, checked row by row; Table 3 with two or more test points per normal
+    stress (a line is fitted through them for Fig 2a)."""
+    d = config.data
+    table3 = paper_tables.read("table3_numerical_tests", d.table3, ["sigma_n_MPa", "tau_MPa", "d_h_test_mm"])
+    for sigma_n, tests in table3.groupby("sigma_n_MPa"):
+        where = f" at sigma_n_MPa = {sigma_n:g}"
+        require_distinct(tests, d.table3, "d_h_test_mm", "Fig 2a's line is fitted through them", where)
     return {
-        "table1": read_table(
-            config.data.table1,
-            {c: POSITIVE for c in ["sigma_n_MPa", "tau_p_MPa", "K_si_GPa_per_m", "tau_ult_MPa"]},
-        ),
-        "table3": read_table(
-            config.data.table3,
-            {"sigma_n_MPa": POSITIVE, "tau_MPa": POSITIVE, "d_h_test_mm": POSITIVE},
-        ),
-        "legends": read_table(
-            config.data.fig2a_legends,
-            {"sigma_n_kPa": POSITIVE, "slope_a": POSITIVE, "intercept_b": ANY},
-        ),
+        "table1": paper_tables.read("table1_measurements", d.table1),
+        "table3": table3,
+        "legends": paper_tables.read("fig2a_legends", d.fig2a_legends, paper_tables.LEGEND_CURVES),
     }
 
 

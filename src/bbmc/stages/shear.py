@@ -25,8 +25,9 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 
-from bbmc import units
+from bbmc import paper_tables, units
 from bbmc.comparison import TOLERANCES, judge
+from bbmc.dem.scene import name_part
 from bbmc.io import StageResult
 from bbmc.joint import model as jm
 from bbmc.shear import box
@@ -55,8 +56,10 @@ def quick_config(config: Config) -> Config:
 
 
 def _label(sigma_n: float, tau: float | None, law: str) -> str:
-    load = f"{sigma_n / units.MPa:g}MPa" + (f"_{tau / units.MPa:g}MPa" if tau is not None else "")
-    return f"{law}_{load}".replace(".", "p")
+    load = f"{name_part(sigma_n / units.MPa)}MPa" + (
+        f"_{name_part(tau / units.MPa)}MPa" if tau is not None else ""
+    )
+    return f"{law}_{load}"
 
 
 def stress_tests(bench: Bench, loads: pd.DataFrame, progress: Callable[[str], None]) -> pd.DataFrame:
@@ -318,7 +321,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     curves = velocity_curves(bench, stresses, progress)
     peaks = velocity_peaks(curves, bench, inputs["table1"])
     test_curves = fit_stage.fig1_curves(inputs["table1"], inputs["legends"], config.fig2a_units, 200)
-    constants = jm.printed_constants(inputs["constants"])
+    constants = paper_tables.printed_constants(inputs["constants"])
     fits, detail = calibration(bench, loads, constants, progress)
     dpi = config.figure_dpi
     return StageResult(

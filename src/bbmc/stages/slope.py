@@ -16,6 +16,7 @@ given against time, and the claims are measured against time.
 from __future__ import annotations
 
 import itertools
+import math
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -27,7 +28,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.figures import mechanism_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import JointedSlope, Scene
-from bbmc.dem.solver import simulate
+from bbmc.dem.solver import SimulationError, simulate
 from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
 from bbmc.slope import figures, safety
@@ -91,6 +92,13 @@ def run_slope(
     ParaView series of every vtk_every-th record too)."""
     probe = _model(config, table4, kind, slope, [])
     layer = sm.sliding_layer(probe, slope)
+    needed = 4 if monitor_joints else 1
+    if len(layer) < needed:
+        raise SimulationError(
+            f"key 'slope': with the bedding at {slope.joint_sets[0].dip_deg:g} deg, {len(layer)} free blocks "
+            f"rest on the bedding joint through the toe; the paper's measures need {needed}",
+            bad_input=True,
+        )
     numbering = sm.paper_numbering(layer) if monitor_joints else {2: layer[0]}
     monitors = []
     if monitor_joints:
@@ -357,8 +365,10 @@ def limit_equilibrium(config: Config, table4: sm.Table4) -> tuple[pd.DataFrame, 
                 }
             )
         analytic = le.critical_dip(law, h, rho, 0.5, 89.5)
-        engine = le.engine_critical_dip(
-            slides, max(analytic - 5, 0.5), min(analytic + 5, 89.5), s.tolerance_deg
+        engine = (  # none where FS does not cross 1
+            le.engine_critical_dip(slides, max(analytic - 5, 0.5), min(analytic + 5, 89.5), s.tolerance_deg)
+            if math.isfinite(analytic)
+            else math.nan
         )
         critical.append(
             {
@@ -408,14 +418,36 @@ def _gif(runs: dict[str, SlopeRun], frames: int, dpi: int) -> bytes:
 def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
     """Run both joint models, the limit-equilibrium check and the dip study; tabulate and draw."""
     table4 = load_table4(config.data)
+    phi_b = table4.nonlinear["phi_b_deg"]
+    for phi_r in config.residual.phi_r_deg:
+        if phi_r > phi_b:
+            raise SimulationError(
+                f"key 'residual.phi_r_deg': {phi_r:g} exceeds Table 4's phi_b_deg {phi_b:g} "
+                f"({config.data.table4_joints_nonlinear}): a residual angle is at most the basic one",
+                bad_input=True,
+            )
     runs = {}
     for kind in sm.JOINT_MODELS:
         progress(f"slope run, {kind} joints")
         runs[kind] = run_slope(
             config, table4, kind, config.slope, monitor_joints=True, vtk_every=config.vtk_every_records
         )
+    end = _on_common_time(runs)
+    records = min(int(np.sum(r.time <= end)) for r in runs.values())
+    if records < 3:
+        raise SimulationError(
+            f"key 'run.duration_s': the runs hold {records} record(s) in their common {end:.3g} s; Fig 10's "
+            "quadratic fits need 3 or more: lengthen duration_s, or record more often (record_every_steps)",
+            bad_input=True,
+        )
     progress("limit equilibrium")
-    sweep, critical = limit_equilibrium(config, table4)
+    try:
+        sweep, critical = limit_equilibrium(config, table4)
+    except le.UndecidedError as error:
+        raise SimulationError(
+            f"key 'limit_equilibrium': {error}; raise max_steps, or check equilibrium_ratio and slide_mm",
+            bad_input=True,
+        ) from None
     dips = sensitivity(config, table4, progress)
     progress("factor of safety by strength reduction, both models")
     safety_table, reductions = safety.factor_of_safety_table(config, table4)

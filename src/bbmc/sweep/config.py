@@ -3,11 +3,13 @@ sampling, and what each sample records. Units are in the key names, as everywher
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
 from bbmc.config import InputFile, Section
+from bbmc.slope import toppling
 
 Positive = Annotated[float, Field(gt=0)]
 Angle = Annotated[float, Field(gt=0, lt=90)]
@@ -65,6 +67,13 @@ class Toppling(Section):
     b_m: float
     friction_deg: Angle
     side_friction_deg: Angle | None = None
+
+    @model_validator(mode="after")
+    def _forms_a_system(self) -> Toppling:
+        toppling.regular_system(
+            self.width_m, math.radians(self.base_dip_deg), self.crest_block, self.a1_m, self.a2_m, self.b_m
+        )
+        return self
 
 
 class SceneBase(Section):
