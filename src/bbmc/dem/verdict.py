@@ -15,15 +15,18 @@ d_k r / (1 - r) more (the projected remainder). Then, each in `CONFIRMATIONS` su
   softens after its peak can pause after a first slip, its blocks decelerating while its forces are
   far from balance, and then fail: the ratio tells that pause from rest);
 * *creep* (unstable): r >= 1, the motion is not slowing (a steady creep at constant velocity is a
-  failure);
+  failure), unless it is at rest: a window's largest movement below `RESTING_FRACTION` of the failure
+  displacement (a creep that would need a million windows to fail is contact chatter: measured on a
+  slope whose trial at F = 1.25 moved 3e-8 m per window, 1e-7 of its failure displacement, and was
+  called creep, though a perturbation of 4e-8 of its block properties called it at rest);
 * *projected* (unstable): the displacement so far plus the projected remainder exceeds the failure
   displacement.
 
 A trend between (STABLE_RATIO < r < 1, coming to rest too slowly to tell) decides nothing until
 `DECIDING_WINDOWS` windows after the first have been seen; then the fit over the last `FIT_WINDOWS`
 decides alone: *decaying* if r <= `DECIDING_RATIO` and the projection stays short of the failure
-displacement, else *creep*. So the verdict never waits for a step budget: a run given 1 + 8 windows
-or more gets the same verdict whatever its budget. Confirmations keep a window of knocking blocks from
+displacement (or the motion is at rest), else *creep*. So the verdict never waits for a step
+budget: a run given 1 + 8 windows or more gets the same verdict whatever its budget. Confirmations keep a window of knocking blocks from
 deciding.
 """
 
@@ -41,6 +44,7 @@ SETTLED_FRACTION = 0.01  # its projected further movement, as a fraction of the 
 UNBALANCE_MULTIPLE = 100.0  # and its unbalanced-force ratio at most this times the ratio's limit
 DECIDING_WINDOWS = 8  # windows after the first by which an undecided trend decides alone
 DECIDING_RATIO = 0.9  # the largest decay ratio per window then called coming to rest
+RESTING_FRACTION = 1e-6  # a window's largest movement below this x the failure displacement: at rest
 STABLE, UNSTABLE = "stable", "unstable"
 
 
@@ -78,10 +82,11 @@ class Trend:
         if len(self.moves) <= FIT_WINDOWS:  # the first window is left out
             return None
         r, remainder = self.decay_ratio(), self.projected_remainder()
+        resting = moved_in_window < RESTING_FRACTION * self.failure_displacement
         balanced = unbalance < UNBALANCE_MULTIPLE * self.unbalance_limit
         if r <= STABLE_RATIO and remainder < SETTLED_FRACTION * self.failure_displacement and balanced:
             leaning = "decaying"
-        elif r >= 1.0:
+        elif r >= 1.0 and not resting:
             leaning = "creep"
         elif moved_so_far + remainder > self.failure_displacement:
             leaning = "projected"
@@ -92,7 +97,7 @@ class Trend:
         if self.agreeing >= CONFIRMATIONS:
             return (STABLE if leaning == "decaying" else UNSTABLE), leaning
         if len(self.moves) > DECIDING_WINDOWS:
-            if r <= DECIDING_RATIO and moved_so_far + remainder <= self.failure_displacement:
+            if resting or (r <= DECIDING_RATIO and moved_so_far + remainder <= self.failure_displacement):
                 return STABLE, "decaying"
             return UNSTABLE, "creep"
         return None
