@@ -26,8 +26,8 @@ A trend between (STABLE_RATIO < r < 1, coming to rest too slowly to tell) decide
 `DECIDING_WINDOWS` windows after the first have been seen; then the fit over the last `FIT_WINDOWS`
 decides alone: *decaying* if r <= `DECIDING_RATIO` and the projection stays short of the failure
 displacement (or the motion is at rest), else *creep*. So the verdict never waits for a step
-budget: a run given 1 + 8 windows or more gets the same verdict whatever its budget. Confirmations keep a window of knocking blocks from
-deciding.
+budget: a run given 1 + 8 windows or more gets the same verdict whatever its budget. Confirmations
+keep a window of knocking blocks from deciding.
 """
 
 from __future__ import annotations
