@@ -12,33 +12,28 @@ from pathlib import Path
 
 import numpy as np
 
-from bbmc import laws, units
-from bbmc.config import ConfigError
-from bbmc.dem import detection, polygons
+from bbmc import units
 from bbmc.dem import layout as L
+from bbmc.dem import polygons
+from bbmc.dem.block_shapes import (
+    SHAPE_KEYS,
+    check_inertia,
+    check_shapes,
+    edge_labels,
+    entry_shapes,
+    start_overlap_fault,
+    turned,
+)
+from bbmc.dem.joint_types import joint_types
 from bbmc.dem.scene import (
-    BartonBandisLaw,
     BlockEntry,
-    ConstantLaw,
-    JointedSlope,
-    MobilizedLaw,
     Monitor,
     Scene,
+    scene_error,
 )
-from bbmc.joint.derived import full_joint
-from bbmc.joint.model import SIGMA_REF
-from bbmc.rockmass.generate import GeometryError
-from bbmc.rockmass.generate import generate as generate_rock_mass
 from bbmc.rockmass.profile import crack_water_table
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
-SHEAR_CODES = {
-    "constant": L.SHEAR_CONSTANT,
-    "bandis": L.SHEAR_BANDIS,
-    "corrected": L.SHEAR_CORRECTED,
-    "simplified": L.SHEAR_SIMPLIFIED,
-    "hyperbolic": L.SHEAR_HYPERBOLIC,
-}
 
 
 @dataclass(frozen=True)
@@ -138,61 +133,6 @@ class Model:
 
 
 GENERATED_LABELS = ("joint", "bridge", "cut")  # a rock mass's labels: a realization may lack any of them
-SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope", "rock_mass")
-
-
-def _error(path: Path, key: str, message: str) -> ConfigError:
-    return ConfigError(f"{path}: key '{key}': {message}")
-
-
-def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]]]:
-    """The slope's blocks, and the degrees of freedom held for each: all three for a block with an
-    edge on a fixed boundary (a corner touching it is not enough)."""
-    dump = slope.model_dump()
-    shapes = polygons.jointed_slope(**{k: v for k, v in dump.items() if k != "fixed_boundaries"})
-    x_left, x_right, y_bottom, _ = polygons.slope_bounds(
-        slope.height_m, slope.face_angle_deg, slope.crest_extent_m, slope.toe_extent_m, slope.depth_m
-    )
-    tolerance = 1e-6 * (x_right - x_left)
-    sides = {
-        "left": lambda v: v[:, 0] <= x_left + tolerance,
-        "right": lambda v: v[:, 0] >= x_right - tolerance,
-        "bottom": lambda v: v[:, 1] <= y_bottom + tolerance,
-    }
-    held = [
-        ["x", "y", "rotation"] if any(sides[side](s).sum() >= 2 for side in slope.fixed_boundaries) else []
-        for s in shapes
-    ]
-    return shapes, held
-
-
-def _shapes(
-    entry: BlockEntry, path: Path, key: str
-) -> tuple[list[np.ndarray], list[list[str]], list[list[str]] | None, list[list[int]]]:
-    """The entry's blocks (vertices as given, not yet turned), the degrees of freedom held for each,
-    their edges' labels (a rock mass's; None: from `edge_labels`) and the vertices of each that may be
-    straight angles (where an edge's label changes)."""
-    labels, straight = None, None
-    if entry.jointed_slope is not None:
-        shapes, held = _slope_blocks(entry.jointed_slope)
-    elif entry.rock_mass is not None:
-        try:
-            mass = generate_rock_mass(entry.rock_mass)
-        except GeometryError as error:
-            raise _error(path, f"{key}.rock_mass.{error.key}", error.reason) from None
-        shapes, labels, straight = mass.polygons, mass.edge_labels, mass.split_vertices
-        held = [["x", "y", "rotation"] if h else [] for h in mass.held]
-    else:
-        if entry.polygon_m is not None:
-            shapes = [np.array(entry.polygon_m, dtype=float)]
-        elif entry.rectangle_m is not None:
-            r = entry.rectangle_m
-            shapes = [polygons.rectangle(r.x_m, r.y_m, r.width_m, r.height_m)]
-        else:
-            shapes = polygons.GENERATORS["brick_wall"](**entry.brick_wall.model_dump())
-        held = [[] for _ in shapes]
-    fixed = [sorted(set(h) | set(entry.fix)) for h in held]
-    return shapes, fixed, labels, straight or [[] for _ in shapes]
 
 
 def _water_table(scene: Scene, path: Path) -> np.ndarray:
@@ -206,119 +146,20 @@ def _water_table(scene: Scene, path: Path) -> np.ndarray:
     masses = [entry.rock_mass for entry in scene.blocks if entry.rock_mass is not None]
     cracked = [m.profile for m in masses if m.profile.tension_crack is not None]
     if not cracked:
-        raise _error(path, "water.tension_crack_fill_percent", "no rock_mass with a tension_crack to fill")
+        raise scene_error(
+            path, "water.tension_crack_fill_percent", "no rock_mass with a tension_crack to fill"
+        )
     profile = cracked[0]
     crack = profile.tension_crack
     fill = water.tension_crack_fill_percent / 100.0
     return crack_water_table(profile.surface(), crack.distance_behind_crest_m, crack.depth_m, fill)
 
 
-def _edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[str]:
-    """The labels of a block's edges in the engine's (counter-clockwise) order: a polygon's
-    `edge_labels` as written (edge k from vertex k to k + 1), reversed with a clockwise polygon."""
-    if entry.edge_labels is None:
-        return [""] * n_edges
-    if entry.polygon_m is None:
-        raise _error(path, f"{key}.edge_labels", "edge labels are given with polygon_m")
-    if len(entry.edge_labels) != n_edges:
-        raise _error(
-            path, f"{key}.edge_labels", f"give one label per edge: {n_edges}, got {len(entry.edge_labels)}"
-        )
-    if polygons.polygon_area(np.array(entry.polygon_m, dtype=float)) > 0.0:
-        return list(entry.edge_labels)
-    return [entry.edge_labels[(n_edges - 2 - i) % n_edges] for i in range(n_edges)]
-
-
-def _turned(shapes: list[np.ndarray], entries: list[BlockEntry]) -> list[np.ndarray]:
-    """Each shape turned as its entry asks (about its own centroid unless the entry gives a point)."""
-    turned = []
-    for shape, entry in zip(shapes, entries, strict=True):
-        if entry.rotate_deg:
-            about = entry.rotate_about_m or polygons.mass_properties(shape)[1]
-            shape = polygons.rotated(shape, entry.rotate_deg * units.deg, np.array(about))
-        turned.append(shape)
-    return turned
-
-
-def _mobilized_law_row(law: MobilizedLaw, p: np.ndarray) -> tuple[list[int], np.ndarray]:
-    """The mobilized law's parameters: JRC_n, JCS_n at the field length, phi_r, delta_peak, M, and the
-    Bandis closure's K_ni, V_m (`bbmc.joint.derived`)."""
-    normal = law.normal_stiffness
-    bandis = normal.law == "bandis"
-    joint = full_joint(
-        law.jrc0,
-        law.jcs0_MPa * units.MPa,
-        law.lab_length_m,
-        law.field_length_m or law.lab_length_m,
-        phi_b=law.phi_b_deg * units.deg,
-        phi_r=None if law.phi_r_deg is None else law.phi_r_deg * units.deg,
-        rebound_ratio=law.rebound_ratio,
-        aperture=normal.aperture_mm * units.mm if bandis and normal.aperture_mm is not None else None,
-        sigma_c=normal.sigma_c_MPa * units.MPa if bandis and normal.sigma_c_MPa is not None else None,
-    )
-    p[L.P_JRC], p[L.P_JCS], p[L.P_PHI_B] = joint.jrc, joint.jcs, joint.phi_r
-    p[L.P_PHI_MAX] = law.phi_max_deg * units.deg
-    p[L.P_PEAK_DISPLACEMENT] = joint.peak_displacement
-    p[L.P_DAMAGE] = 0.0 if law.damage == "barton_1985" else law.damage
-    p[L.P_STRESS_FLOOR] = law.stress_floor_MPa * units.MPa
-    p[L.P_KS] = law.shear_stiffness.ks_MPa_per_mm * units.MPa_per_mm
-    if joint.closure is None:
-        p[L.P_KN] = normal.kn_MPa_per_mm * units.MPa_per_mm
-        normal_code = L.NORMAL_CONSTANT
-    else:
-        p[L.P_K_NI] = p[L.P_KN] = joint.closure.kni
-        p[L.P_V_M] = joint.closure.vm
-        normal_code = L.NORMAL_BANDIS
-    return [L.STRENGTH_MOBILIZED, normal_code, L.SHEAR_CONSTANT, L.AFTER_SLIP_KEEP], p
-
-
-def _joint_law_row(law: ConstantLaw | BartonBandisLaw | MobilizedLaw) -> tuple[list[int], np.ndarray]:
-    p = np.zeros(L.PARAMETERS)
-    p[L.P_STRENGTH_DIVISOR] = 1.0
-    if isinstance(law, MobilizedLaw):
-        return _mobilized_law_row(law, p)
-    after = L.AFTER_SLIP_ZERO if law.after_slip == "zero" else L.AFTER_SLIP_KEEP
-    p[L.P_TEN] = law.tensile_strength_MPa * units.MPa
-    if isinstance(law, ConstantLaw):
-        p[L.P_KN] = law.kn_MPa_per_mm * units.MPa_per_mm
-        p[L.P_KS] = law.ks_MPa_per_mm * units.MPa_per_mm
-        p[L.P_COH] = law.cohesion_MPa * units.MPa
-        p[L.P_PHI] = law.friction_deg * units.deg
-        return [L.STRENGTH_CONSTANT, L.NORMAL_CONSTANT, L.SHEAR_CONSTANT, after], p
-    s = law.strength
-    p[L.P_JRC], p[L.P_JCS] = s.jrc, s.jcs_MPa * units.MPa
-    p[L.P_PHI_B], p[L.P_PHI_MAX] = s.phi_b_deg * units.deg, s.phi_max_deg * units.deg
-    exact = float(laws.exact_tangent_coefficient(s.jrc))
-    p[L.P_K_TANGENT] = exact if s.tangent_coefficient == "exact" else s.tangent_coefficient
-    p[L.P_STRESS_FLOOR] = law.stress_floor_MPa * units.MPa
-    p[L.P_SHEAR_FLOOR] = law.shear_stiffness_floor
-    p[L.P_SIGMA_REF] = SIGMA_REF
-    normal, shear = law.normal_stiffness, law.shear_stiffness
-    if normal.law == "constant":
-        p[L.P_KN] = normal.kn_MPa_per_mm * units.MPa_per_mm
-    else:
-        p[L.P_Q], p[L.P_LG_E] = normal.q_per_mm * units.per_mm, normal.lg_e
-    if shear.law == "constant":
-        p[L.P_KS] = shear.ks_MPa_per_mm * units.MPa_per_mm
-    else:
-        p[L.P_K_J], p[L.P_N_J] = shear.kj_MPa_per_mm * units.MPa_per_mm, shear.nj
-    if shear.law == "simplified":
-        p[L.P_D] = shear.d
-    elif shear.law != "constant":
-        p[L.P_TAU_P_SLOPE] = shear.peak_strength.slope
-        p[L.P_TAU_P_INTERCEPT] = shear.peak_strength.intercept_MPa * units.MPa
-        p[L.P_TAU_ULT_SLOPE] = shear.ultimate_strength.slope
-        p[L.P_TAU_ULT_INTERCEPT] = shear.ultimate_strength.intercept_MPa * units.MPa
-        p[L.P_A], p[L.P_B] = shear.a, shear.b
-    normal_code = L.NORMAL_CONSTANT if normal.law == "constant" else L.NORMAL_EQ8
-    return [L.STRENGTH_BARTON_BANDIS, normal_code, SHEAR_CODES[shear.law], after], p
-
-
 def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> int:
     n = len(vertices)
     if isinstance(edge, int):
         if edge >= n:
-            raise _error(path, key, f"the block has {n} edges (0 to {n - 1}), got {edge}")
+            raise scene_error(path, key, f"the block has {n} edges (0 to {n - 1}), got {edge}")
         return edge
     direction = np.array(EDGE_DIRECTIONS[edge])
     tangents = np.roll(vertices, -1, axis=0) - vertices
@@ -327,93 +168,26 @@ def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> 
     return int(np.argmax(normals @ direction))
 
 
-def _start_overlap_fault(
-    shapes: list[np.ndarray],
-    names: list[str],
-    vertex_start: np.ndarray,
-    vertex_next: np.ndarray,
-    sizes: np.ndarray,
-    scene: Scene,
-) -> str | None:
-    """Why the blocks cannot start where they are, or None: they span more than floating point holds,
-    or two of them overlap deeper than `contacts.interpenetration_limit` x the smaller one's size (the
-    depth at which a run warns). Every pair whose boxes meet is measured (the contact search's broad
-    phase, then separating axes), held blocks included."""
-    world = np.concatenate(shapes)
-    span = float(np.max(np.ptp(world, axis=0)))
-    if not np.isfinite(span):
-        return "the blocks lie too far apart for floating point (their span is not a finite number)"
-    pairs = detection.candidate_pairs(world, vertex_start, np.zeros(len(shapes), dtype=np.bool_), 0.0)
-    if not len(pairs):
-        return None
-    depth = detection.overlap_depth(pairs, world, vertex_start, vertex_next)
-    relative = depth / np.minimum(sizes[pairs[:, 0]], sizes[pairs[:, 1]])
-    limit = scene.contacts.interpenetration_limit
-    deep = np.flatnonzero(relative > limit)
-    if not len(deep):
-        return None
-    k = deep[np.argmax(relative[deep])]
-    a, b = pairs[k]
-    others = f"; {len(deep) - 1} other pairs overlap too" if len(deep) > 1 else ""
-    return (
-        f"blocks '{names[a]}' and '{names[b]}' overlap by {depth[k]:.3g} m at the start, "
-        f"{100 * relative[k]:.3g} % of the smaller one's size (contacts.interpenetration_limit: "
-        f"{100 * limit:.3g} %){others}"
-    )
-
-
-def _check_shapes(
-    shapes: list[np.ndarray],
-    vertex_start: np.ndarray,
-    may_be_straight: np.ndarray,
-    names: list[str],
-    keys: list[str],
-    path: Path,
-) -> None:
-    """ConfigError naming the first block whose shape cannot be a rigid convex block (a vertex marked in
-    `may_be_straight` may be a straight angle)."""
-    faults = polygons.shape_faults(np.concatenate(shapes), vertex_start, may_be_straight)
-    if faults:
-        i = min(faults)
-        raise _error(path, keys[i], f"block '{names[i]}': {faults[i]}")
-
-
-def _check_inertia(blocks: np.ndarray, names: list[str], entries: list[BlockEntry], path: Path) -> None:
-    """ConfigError naming the first block whose mass or moment of inertia (density x area, density x
-    second moment of area) is not a positive normal floating-point number: the engine divides by both."""
-    inertia = blocks[:, [L.MASS, L.INERTIA]]
-    sound = np.all(np.isfinite(inertia) & (inertia >= np.finfo(float).tiny), axis=1)
-    if not sound.all():
-        i = int(np.argmin(sound))
-        mass, moment = inertia[i]
-        raise _error(
-            path,
-            f"materials.{entries[i].material}.density_kg_m3",
-            f"block '{names[i]}': its mass ({mass:.3g} kg) and moment of inertia ({moment:.3g} kg m^2) "
-            "are beyond floating point",
-        )
-
-
 def build_model(scene: Scene, path: Path) -> Model:
     """Check every reference of the scene and assemble the engine's arrays."""
     names, shape_keys, groups, shapes, entries, fixed, labels, straight = [], [], [], [], [], [], [], []
     for i, entry in enumerate(scene.blocks):
         key = f"blocks.{i}"
         if entry.material not in scene.materials:
-            raise _error(path, f"{key}.material", f"no material '{entry.material}' in materials")
+            raise scene_error(path, f"{key}.material", f"no material '{entry.material}' in materials")
         if set(entry.fix) & set(_velocity_dofs(entry)):
-            raise _error(path, f"{key}.velocity", "a degree of freedom is both fixed and prescribed")
+            raise scene_error(path, f"{key}.velocity", "a degree of freedom is both fixed and prescribed")
         family = (
             entry.brick_wall is not None or entry.jointed_slope is not None or entry.rock_mass is not None
         )
         shape_key = next(k for k in SHAPE_KEYS if getattr(entry, k) is not None)
         try:
-            shapes_of_entry, held, labels_of_entry, straight_of_entry = _shapes(entry, path, key)
+            shapes_of_entry, held, labels_of_entry, straight_of_entry = entry_shapes(entry, path, key)
         except ValueError as error:  # a generator asked for more blocks than it makes
-            raise _error(path, f"{key}.{shape_key}", str(error)) from None
+            raise scene_error(path, f"{key}.{shape_key}", str(error)) from None
         for k, shape in enumerate(shapes_of_entry):
             labels.append(
-                labels_of_entry[k] if labels_of_entry else _edge_labels(entry, len(shape), path, key)
+                labels_of_entry[k] if labels_of_entry else edge_labels(entry, len(shape), path, key)
             )
             straight.append(straight_of_entry[k])
             names.append(f"{entry.name}.{k}" if family else entry.name)
@@ -427,15 +201,15 @@ def build_model(scene: Scene, path: Path) -> Model:
     may_be_straight = np.zeros(vertex_start[-1], dtype=bool)
     for i, vertices in enumerate(straight):
         may_be_straight[vertex_start[i] + np.asarray(vertices, dtype=np.int64)] = True
-    _check_shapes(shapes, vertex_start, may_be_straight, names, shape_keys, path)
+    check_shapes(shapes, vertex_start, may_be_straight, names, shape_keys, path)
     shapes = [polygons.counter_clockwise(s) for s in shapes]
     if any(entry.rotate_deg for entry in scene.blocks):
-        shapes = _turned(shapes, entries)
-        _check_shapes(shapes, vertex_start, may_be_straight, names, shape_keys, path)
+        shapes = turned(shapes, entries)
+        check_shapes(shapes, vertex_start, may_be_straight, names, shape_keys, path)
     seen: dict[str, int] = {}
     for i, name in enumerate(names):
         if name in seen:
-            raise _error(path, "blocks", f"two blocks are named '{name}'")
+            raise scene_error(path, "blocks", f"two blocks are named '{name}'")
         seen[name] = i
     group_names = sorted(set(groups))
     block_group = np.array([group_names.index(g) for g in groups], dtype=np.int64)
@@ -471,57 +245,41 @@ def build_model(scene: Scene, path: Path) -> Model:
                 blocks[i, L.VPX + d] = value
                 blocks[i, L.VX + d] = value if velocity.start_step == 0 else 0.0
         blocks[i, L.VSTART] = velocity.start_step if velocity else 0
-    _check_inertia(blocks, names, entries, path)
+    check_inertia(blocks, names, entries, path)
 
-    overlap = _start_overlap_fault(shapes, names, vertex_start, vertex_next, blocks[:, L.SIZE], scene)
+    overlap = start_overlap_fault(shapes, names, vertex_start, vertex_next, blocks[:, L.SIZE], scene)
     if overlap:
-        raise _error(path, "blocks", overlap)
+        raise scene_error(path, "blocks", overlap)
 
-    law_names = list(scene.joint_laws)
-    rows = [_joint_law_row(law) for law in scene.joint_laws.values()]
-    law_codes = np.array([r[0] + [-1] for r in rows], dtype=np.int64)
-    for j, (name, law) in enumerate(scene.joint_laws.items()):
-        target = getattr(law, "breaks_into", None)
-        if target is None:
-            continue
-        key = f"joint_laws.{name}.breaks_into"
-        if target not in law_names:
-            raise _error(path, key, f"no joint law '{target}' in joint_laws")
-        if law.cohesion_MPa == 0.0 and law.tensile_strength_MPa == 0.0:
-            raise _error(path, key, "a bridge with no strength: give it cohesion_MPa or tensile_strength_MPa")
-        if getattr(scene.joint_laws[target], "breaks_into", None) is not None:
-            raise _error(path, key, f"'{target}' breaks into a law itself: a bridge breaks into a joint")
-        if target == name:
-            raise _error(path, key, "a law cannot break into itself")
-        law_codes[j, L.BREAKS_INTO] = law_names.index(target)
-    params = np.array([r[1] for r in rows])
+    law_names, law_codes, params = joint_types(scene, path)
     contacts = scene.contacts
     if contacts.default_law not in law_names:
-        raise _error(path, "contacts.default_law", f"no joint law '{contacts.default_law}' in joint_laws")
+        raise scene_error(
+            path, "contacts.default_law", f"no joint law '{contacts.default_law}' in joint_laws"
+        )
     rule_groups = np.full((len(contacts.rules), 2), -1, dtype=np.int64)
     rule_dip = np.tile([0.0, math.pi / 2], (len(contacts.rules), 1))
     rule_law = np.zeros(len(contacts.rules), dtype=np.int64)
     label_names = sorted({""} | {label for shape_labels in labels for label in shape_labels})
-    edge_label = np.array(
-        [label_names.index(x) for shape_labels in labels for x in shape_labels], dtype=np.int64
-    )
+    label_index = {name: i for i, name in enumerate(label_names)}
+    edge_label = np.array([label_index[x] for shape_labels in labels for x in shape_labels], dtype=np.int64)
     rule_edges = np.ones((len(contacts.rules), len(label_names)), dtype=bool)
     for r, rule in enumerate(contacts.rules):
         key = f"contacts.rules.{r}"
         if rule.law not in law_names:
-            raise _error(path, f"{key}.law", f"no joint law '{rule.law}' in joint_laws")
+            raise scene_error(path, f"{key}.law", f"no joint law '{rule.law}' in joint_laws")
         rule_law[r] = law_names.index(rule.law)
         if rule.groups:
             for k, group in enumerate(rule.groups):
                 if group not in group_names:
-                    raise _error(path, f"{key}.groups", f"no block group '{group}'")
+                    raise scene_error(path, f"{key}.groups", f"no block group '{group}'")
                 rule_groups[r, k] = group_names.index(group)
         if rule.dip_deg:
             rule_dip[r] = np.array(rule.dip_deg) * units.deg
         if rule.edges is not None:
             rule_edges[r] = [x == rule.edges or x.startswith(rule.edges + ".") for x in label_names]
             if not rule_edges[r].any() and rule.edges.split(".")[0] not in GENERATED_LABELS:
-                raise _error(path, f"{key}.edges", f"no edge is labelled '{rule.edges}'")
+                raise scene_error(path, f"{key}.edges", f"no edge is labelled '{rule.edges}'")
 
     block_loads = np.zeros((len(scene.loads.block_forces), 5))
     load_block = np.zeros(len(scene.loads.block_forces), dtype=np.int64)
@@ -605,7 +363,7 @@ def _block_index(index: dict[str, int], name: str, path: Path, key: str) -> int:
     if name not in index:
         close = [n for n in index if n.startswith(name)][:3]
         hint = f" (blocks named like it: {', '.join(close)})" if close else ""
-        raise _error(path, key, f"no block named '{name}'{hint}")
+        raise scene_error(path, key, f"no block named '{name}'{hint}")
     return index[name]
 
 
@@ -614,7 +372,7 @@ def _monitors(scene: Scene, index: dict[str, int], group_names: list[str], path:
     for k, m in enumerate(scene.monitoring.monitors):
         key = f"monitoring.monitors.{k}"
         if m.name in seen:
-            raise _error(path, f"{key}.name", f"two monitors are named '{m.name}'")
+            raise scene_error(path, f"{key}.name", f"two monitors are named '{m.name}'")
         seen.add(m.name)
         specs.append(_monitor_spec(m, index, group_names, path, key))
     return specs
@@ -628,7 +386,7 @@ def _monitor_spec(
     if m.between is not None:
         for group in m.between:
             if group not in group_names:
-                raise _error(path, f"{key}.between", f"no block group '{group}'")
+                raise scene_error(path, f"{key}.between", f"no block group '{group}'")
         groups = (group_names.index(m.between[0]), group_names.index(m.between[1]))
     return MonitorSpec(
         name=m.name,

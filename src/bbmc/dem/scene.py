@@ -9,11 +9,12 @@ checked when the model is built, before any step runs.
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from bbmc.config import Section
+from bbmc.config import ConfigError, Section
 from bbmc.dem.polygons import MAX_BLOCKS
 from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
@@ -437,3 +438,8 @@ class Scene(Section):
     seismic: Seismic | None = None
     fos: StrengthReduction = StrengthReduction()
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
+
+
+def scene_error(path: Path, key: str, message: str) -> ConfigError:
+    """The one line of a fault in a scene: the file, the dotted key as written, what is wrong."""
+    return ConfigError(f"{path}: key '{key}': {message}")

@@ -1,0 +1,112 @@
+"""The contact search: the facing edge pairs within the search margin, found between cycles; a
+contact found before keeps its state, a new one gets its joint type (the first contact rule that
+matches its blocks' groups, its dip and its edges' labels) and its initial state."""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from bbmc.dem import contact_forces, joint_state
+from bbmc.dem import layout as L
+from bbmc.dem.detection import candidate_pairs, facing_edges
+from bbmc.dem.model import Model
+
+if TYPE_CHECKING:
+    from bbmc.dem.solver import State
+
+
+def _joint_types(model: Model, found: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """The joint law of each new contact: the first matching rule, else the default. The dip is that of
+    the contact's common line (`normal`: the face a corner presses on); a rule with `edges` matches a
+    contact one of whose edges carries that label."""
+    dip = np.arctan2(np.abs(normal[:, 0]), np.abs(normal[:, 1]))
+    ga, gb = model.block_group[found[:, 2]], model.block_group[found[:, 3]]
+    types = np.full(len(found), model.default_law, dtype=np.int64)
+    open_ = np.ones(len(found), dtype=bool)
+    label_a, label_b = model.edge_label[found[:, 0]], model.edge_label[found[:, 1]]
+    rules = zip(model.rule_groups, model.rule_dip, model.rule_law, model.rule_edges, strict=True)
+    for (g1, g2), (lo, hi), law, edges in rules:
+        match = open_ & (dip >= lo - 1e-12) & (dip <= hi + 1e-12) & (edges[label_a] | edges[label_b])
+        if g1 >= 0:
+            match &= ((ga == g1) & (gb == g2)) | ((ga == g2) & (gb == g1))
+        types[match] = law
+        open_ &= ~match
+    return types
+
+
+def search_contacts(model: Model, state: State) -> None:
+    """Find the facing edge pairs now within the margin; contacts found before keep their state."""
+    b, economy = state.blocks, model.economy
+    immobile = state.immobile if economy.skip_immobile_pairs else np.zeros(len(b), dtype=bool)
+    pairs = candidate_pairs(state.world, model.vertex_start, immobile, model.search_margin)
+    found, normal = _facing_edges(model, state, pairs)
+    n_vertices, n_sub = len(model.local), state.n_sub
+    old_keys = state.contacts[:, L.EDGE_A] * n_vertices + state.contacts[:, L.EDGE_B]
+    new_keys = found[:, 0] * n_vertices + found[:, 1]
+    order = np.argsort(old_keys, kind="stable")
+    slot = np.searchsorted(old_keys[order], new_keys)
+    known = slot < len(order)
+    known[known] = old_keys[order][slot[known]] == new_keys[known]
+    kept = order[slot[known]]
+    fresh = found[~known]
+    contacts = np.concatenate(
+        [
+            state.contacts[kept],
+            np.column_stack([fresh, _joint_types(model, fresh, normal[~known])]).astype(np.int64),
+        ]
+    ).reshape(-1, L.CONTACT_COLUMNS)
+    kept_rows = (kept[:, None] * n_sub + np.arange(n_sub)).ravel()
+    subs = np.concatenate([state.subs[kept_rows], np.zeros((len(fresh) * n_sub, L.SUB_COLUMNS))])
+    first_new = len(kept)
+    joint_state.initial_joint_state(
+        contacts, subs, n_sub, model.laws, model.params, first_new, state.step == 0
+    )
+    if state.step == 0:  # intact rock (a type that breaks into a joint) keeps joint water out
+        intact = model.laws[contacts[first_new:, L.JOINT_TYPE], L.BREAKS_INTO] >= 0
+        state.dry_edges[contacts[first_new:][intact][:, [L.EDGE_A, L.EDGE_B]].ravel()] = True
+    new_contacts, new_subs = contacts[first_new:], subs[first_new * n_sub :]
+    if model.variable_laws:
+        joint_state.update_joint_laws(
+            new_contacts, new_subs, n_sub, model.laws, model.params, model.economy.changed_laws_only
+        )
+    contact_forces.contact_forces(
+        b,
+        state.world,
+        model.vertex_next,
+        new_contacts,
+        new_subs,
+        n_sub,
+        model.laws,
+        model.params,
+        0.0,
+    )
+    state.contacts, state.subs = contacts, subs
+    b[:, [L.XR, L.YR, L.THR]] = b[:, [L.X, L.Y, L.TH]]
+    state.searches += 1
+
+
+def _facing_edges(model: Model, state: State, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`detection.facing_edges` of the block pairs, in calls paced by `state.search_pace`: each pair's
+    edges are found alone, so the pieces joined are the edges of one call, in the same order."""
+    pieces, start = [], 0
+    while True:
+        stop = start + state.search_pace.take(len(pairs) - start)
+        started = time.perf_counter()
+        pieces.append(
+            facing_edges(
+                pairs[start:stop],
+                state.world,
+                model.vertex_start,
+                model.vertex_next,
+                state.blocks[:, L.SIZE],
+                model.search_margin,
+                model.economy.bound_depth_when_needed,
+            )
+        )
+        state.search_pace.timed(stop - start, time.perf_counter() - started)
+        start = stop
+        if start == len(pairs):
+            return np.concatenate([f for f, _ in pieces]), np.concatenate([n for _, n in pieces])
