@@ -346,6 +346,8 @@ def build_model(scene: Scene, path: Path) -> Model:
             shapes_of_entry, held = _shapes(entry)
         except ValueError as error:  # a generator asked for more blocks than it makes
             raise _error(path, f"{key}.{shape_key}", str(error)) from None
+        if not shapes_of_entry:
+            raise _error(path, f"{key}.{shape_key}", "it makes no block (too small to cut)")
         for k, shape in enumerate(shapes_of_entry):
             names.append(f"{entry.name}.{k}" if family else entry.name)
             shape_keys.append(f"{key}.{shape_key}")
