@@ -472,6 +472,10 @@ FOUND = [
     ("shear", "table3_numerical_tests.csv", "6:tau_MPa", 5.5e298, 3, "went unstable"),  # a '+' in a name
     ("slope", "table4_joints_nonlinear.csv", "2:phi_b_deg", 30.06, 2, "exceeds Table 4's phi_b_deg 30.06"),
     ("mc", "mc.yaml", "joint.jcs_MPa", 3.31e-18, 0, "bbmc mc: warning: UserWarning: Data has no positive"),
+    ("audit", "table4_joints_nonlinear.csv", "2:JCS_MPa", 3.87e300, 0, ""),  # brentq over 1e3-4e306 Pa
+    ("fit", "table1_measurements.csv", "2:K_si_GPa_per_m", 5e8, 2, "nonlinear least squares found no"),
+    ("shear", "shear.yaml", "joint_options.stress_floor_MPa", 0.001, 2, "stopped at step"),  # before shearing
+    ("slope", "slope.yaml", "slope.height_m", 1e-29, 2, "it makes no block"),
 ]
 
 

@@ -495,7 +495,8 @@ def shear_command(config_path: Path, results: str, strict: bool, quick: bool) ->
             if time.perf_counter() - started > 2.0:
                 click.echo(f"bbmc {name}: {step}", err=True)
 
-        result = shear_stage.run(settings, progress)
+        with _scene_at_fault(config_path):
+            result = shear_stage.run(settings, progress)
         out_dir = Path(results) / name
         written = write_stage(out_dir, result, provenance(name, config_path, settings) | {"quick": quick})
     _report_written(name, out_dir, written)

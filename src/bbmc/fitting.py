@@ -77,7 +77,10 @@ def power_law_fit(x: np.ndarray, y: np.ndarray, method: str) -> Fit:
     if method == "nonlinear":
         with warnings.catch_warnings():  # its covariance (not used) cannot be estimated from two points
             warnings.simplefilter("ignore", optimize.OptimizeWarning)
-            (a, b), _ = optimize.curve_fit(lambda s, a_, b_: a_ * s**b_, x, y, p0=(a, b))
+            try:
+                (a, b), _ = optimize.curve_fit(lambda s, a_, b_: a_ * s**b_, x, y, p0=(a, b))
+            except RuntimeError as error:
+                raise ValueError(f"nonlinear least squares found no power law: {error}") from None
     elif method != "log-log":
         raise ValueError(f"unknown power-law method {method!r}: use 'log-log' or 'nonlinear'")
     y_hat = a * x**b

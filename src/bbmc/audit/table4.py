@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy import optimize
 
@@ -51,7 +53,7 @@ def table4_checks(log: AuditLog, ctx: AuditInputs) -> None:
             f"Eq 15 with Table 4's set gives c = {c_kPa:g} kPa at no sigma_n from 1 kPa to JCS; {span}.",
         )
     else:
-        root = optimize.brentq(c_above_paper, low, high)
+        root = math.exp(optimize.brentq(lambda u: c_above_paper(math.exp(u)), math.log(low), math.log(high)))
         phi_there = jm.strength_state(np.array([root]), table4_set)["phi"][0] / units.deg
         log.check(
             "Table 4",

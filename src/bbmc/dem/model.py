@@ -185,6 +185,8 @@ def build_model(scene: Scene, path: Path) -> Model:
             shapes_of_entry, held, labels_of_entry, straight_of_entry = entry_shapes(entry, path, key)
         except ValueError as error:  # a generator asked for more blocks than it makes
             raise scene_error(path, f"{key}.{shape_key}", str(error)) from None
+        if not shapes_of_entry:
+            raise scene_error(path, f"{key}.{shape_key}", "it makes no block (too small to cut)")
         for k, shape in enumerate(shapes_of_entry):
             labels.append(
                 labels_of_entry[k] if labels_of_entry else edge_labels(entry, len(shape), path, key)

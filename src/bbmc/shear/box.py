@@ -35,7 +35,7 @@ from bbmc.config import Section
 from bbmc.dem.layout import SLIPPED
 from bbmc.dem.model import EVERY_ECONOMY, Economy, build_model
 from bbmc.dem.scene import Scene
-from bbmc.dem.solver import simulate
+from bbmc.dem.solver import SimulationError, simulate
 from bbmc.joint import model as jm
 
 Positive = Annotated[float, Field(gt=0)]
@@ -321,9 +321,17 @@ def run_stress_controlled(scene: dict, economy: Economy = EVERY_ECONOMY) -> Outc
 def run_constant_velocity(scene: dict) -> pd.DataFrame:
     """The tau-d_h curve of a constant-velocity test from the start of shearing: d_h [mm], tau, sigma_n
     [MPa], time [s] since shearing began."""
-    h = _simulate(scene, EVERY_ECONOMY).history
+    result = _simulate(scene, EVERY_ECONOMY)
     start = next(b for b in scene["blocks"] if b["name"] == "upper")["velocity"]["start_step"]
-    h = h[h["step"] >= start]
+    steps = int(dict(zip(result.summary["quantity"], result.summary["value"], strict=True))["steps"])
+    if steps < start:
+        raise SimulationError(
+            f"key 'constant_velocity.shear_displacement_mm': the test stopped at step {steps}, before "
+            f"shearing began at step {start}: the block moved that far under the normal load alone (a joint "
+            "far too soft for it)",
+            bad_input=True,
+        )
+    h = result.history[result.history["step"] >= start]  # the last step is always recorded
     return pd.DataFrame(
         {
             "time_s": h["time_s"].to_numpy() - h["time_s"].iloc[0],

@@ -109,7 +109,7 @@ def _inputs(config: Config) -> checks.AuditInputs:
         table4_nonlinear=nonlinear,
         table4_rock=rock,
         printed=paper_tables.printed_constants(mc_inputs["constants"]),
-        our_fits=fit.table1_fits(table1, fit_inputs["table3"], fit_config.fig2a_units),
+        our_fits=fit.checked_fits(fit_config, fit_inputs),
         strength=strength,
         stiffness=stiffness,
         k_j_unrounded=unrounded.a,

@@ -16,7 +16,7 @@ import pandas as pd
 from pydantic import Field
 
 from bbmc import laws, paper_tables, plots, units
-from bbmc.config import InputFile, Section
+from bbmc.config import ConfigError, InputFile, Section
 from bbmc.fitting import Fit, linear_fit, power_law_fit
 from bbmc.io import StageResult, require_distinct
 from bbmc.paper_inputs import Fig2aUnits
@@ -141,10 +141,19 @@ def fig1_curves(
     return pd.concat(frames, ignore_index=True)
 
 
+def checked_fits(config: Config, data: dict[str, pd.DataFrame]) -> pd.DataFrame:
+    """`table1_fits` of the loaded inputs; a power law that cannot be fitted to Table 1 (nonlinear least
+    squares that do not converge) is a ConfigError naming it."""
+    try:
+        return table1_fits(data["table1"], data["table3"], config.fig2a_units)
+    except ValueError as error:
+        raise ConfigError(f"{config.data.table1}: K_si = a sigma_n^b: {error}") from None
+
+
 def run(config: Config) -> StageResult:
     """Fit, tabulate and draw; nothing is written here."""
     data = load_inputs(config)
-    fits = table1_fits(data["table1"], data["table3"], config.fig2a_units)
+    fits = checked_fits(config, data)
     curves = fig1_curves(data["table1"], data["legends"], config.fig2a_units, config.fig1.points_per_curve)
     chosen = fits[(fits["relation"] != "K_si_vs_sigma_n") | (fits["method"] == config.power_law_method)]
     return StageResult(

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from bbmc.config import ConfigError
 from bbmc.dem import layout as L
 from bbmc.dem.figures import mechanism_figure
 from bbmc.dem.model import Model, build_model
@@ -76,7 +77,12 @@ def _model(
 ) -> Model:
     law = sm.joint_law(kind, table4, config.constant, config.barton_bandis)
     scene = sm.slope_scene(f"slope_{kind}", slope, table4.density_kg_m3, law, config.run, monitors)
-    return build_model(Scene.model_validate(scene, strict=False), Path(f"slope_{kind}.yaml"))
+    try:
+        return build_model(Scene.model_validate(scene, strict=False), Path(f"slope_{kind}.yaml"))
+    except ConfigError as error:  # the scene is the config's slope and Table 4's parameters
+        raise SimulationError(
+            f"key 'slope': the {kind} slope it makes is refused: {error}", bad_input=True
+        ) from None
 
 
 def run_slope(
