@@ -26,6 +26,7 @@ from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
 from bbmc.plausibility import ImplausibleValue
 from bbmc.program import INTERRUPTED
+from bbmc.progress_bar import ProgressBar
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
@@ -175,27 +176,6 @@ def _run_stage(
     _report_written(stage.NAME, Path(results) / stage.NAME, written)
 
 
-class _Progress:
-    """A progress bar on stderr for runs that last: it appears once a run has taken `after` seconds."""
-
-    def __init__(self, total: int, label: str, after: float = 2.0) -> None:
-        self.total, self.label, self.after = total, label, after
-        self.start, self.done, self.bar = time.perf_counter(), 0, None
-
-    def __call__(self, steps: int) -> None:
-        self.done += steps
-        if self.bar is None and time.perf_counter() - self.start > self.after:
-            self.bar = click.progressbar(length=self.total, label=self.label, file=sys.stderr)
-            self.bar.__enter__()
-            self.bar.update(self.done)
-        elif self.bar is not None:
-            self.bar.update(steps)
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.__exit__(None, None, None)
-
-
 def _file_options(name: str, noun: str, default: str | None = None):
     """The options every command shares: its file (an argument, or --config: the same), --results,
     --strict. The command is called with the file as `config_path`."""
@@ -329,7 +309,7 @@ def run_command(config_path: Path, results: str, strict: bool, vtk: bool) -> Non
     """
     with _reported(run_stage.NAME, strict):
         scene = load_config(config_path, run_stage.Config)
-        progress = _Progress(scene.solver.steps, f"bbmc run {config_path.name}")
+        progress = ProgressBar(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
             with _scene_at_fault(config_path):
                 result, outcome = run_stage.run(scene, config_path, progress, vtk)
