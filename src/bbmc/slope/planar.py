@@ -23,6 +23,21 @@ negative. Geometry that forms no block (psi_p >= psi_f, psi_p <= 0, z >= H, z < 
 above the crack's height: z in the upper surface, (H - z)(cot psi_p tan psi_f - 1) in the face) is
 refused with ValueError naming the condition.
 
+Support (a bolt, anchor or cable pattern; Hoek & Bray 1981 ch. 7; Wyllie & Mah 2004 eq 6.24): a force T
+per metre run acting on the block at an angle theta to the plane, measured from the plane's up-dip
+direction and positive towards the plane, i.e. into the rock: its components are T_s = T cos theta up
+the plane and T_n = T sin theta pressing the block onto it. A bolt drilled from the face plunging psi_T
+below the horizontal into the slope has theta = psi_p + psi_T; theta = 90 deg is a bolt normal to the
+plane, theta = 0 a force pulling straight up-dip. RocPlane's two ways of counting T:
+
+    active  (a pretensioned anchor, T acts before any movement; RocPlane's "active", equal to an
+             external force): FS = (c A + (N + T_n) tan phi) / (D - T_s)
+    passive (a grouted bolt mobilised by movement; its resisting part joins the resisting force):
+             FS = (c A + (N + T_n) tan phi + T_s) / D
+
+The Barton-Bandis forms put N + T_n in place of N. Where the active support alone holds the block
+(D - T_s <= 0) FS = +inf. T >= 0 (a bolt pulls; it cannot push) is required.
+
 The critical crack (Hoek & Bray, dry slope): depth z_c / H = 1 - sqrt(cot psi_f tan psi_p), behind
 the crest by b_c / H = sqrt(cot psi_f cot psi_p) - cot psi_f.
 
@@ -32,6 +47,7 @@ function broadcasts over numpy arrays of its arguments (for Monte Carlo: one cal
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -116,17 +132,76 @@ def planar_forces(
     return PlanarForces(length, weight, uplift, crack, normal, driving, in_face)
 
 
-def factor_of_safety_mohr_coulomb(forces: PlanarForces, cohesion: ArrayLike, friction: ArrayLike) -> NDArray:
-    """FS = (c A + max(N, 0) tan phi) / D; c [Pa], phi [rad]."""
-    resisting = np.asarray(cohesion) * forces.plane_length + np.maximum(forces.normal, 0.0) * np.tan(friction)
-    return resisting / forces.driving
+SUPPORT_FORMS = ("active", "passive")
+
+
+@dataclass(frozen=True)
+class Support:
+    """A support force T [N per metre run] at theta [rad] from the plane's up-dip direction, towards
+    the plane (module docstring), counted in RocPlane's `form`, "active" or "passive"."""
+
+    force: ArrayLike
+    angle: ArrayLike
+    form: str = "active"
+
+    def __post_init__(self) -> None:
+        if self.form not in SUPPORT_FORMS:
+            raise ValueError(f"support form must be one of {SUPPORT_FORMS}, not {self.form!r}")
+        if np.any(~(np.asarray(self.force, dtype=float) >= 0.0)):
+            raise ValueError("support force must be >= 0 (a bolt pulls, it cannot push)")
+
+    @property
+    def along(self) -> NDArray:
+        """T_s = T cos theta, up the plane [N/m]."""
+        return np.asarray(self.force, dtype=float) * np.cos(self.angle)
+
+    @property
+    def onto(self) -> NDArray:
+        """T_n = T sin theta, onto the plane [N/m]."""
+        return np.asarray(self.force, dtype=float) * np.sin(self.angle)
+
+
+def _factor_of_safety(
+    forces: PlanarForces, resisting: Callable[[NDArray], NDArray], support: Support | None
+) -> NDArray:
+    """FS from the resisting force as a function of the effective normal force (clipped at 0)."""
+    if support is None:
+        return resisting(np.maximum(forces.normal, 0.0)) / forces.driving
+    held = resisting(np.maximum(forces.normal + support.onto, 0.0))
+    if support.form == "passive":
+        return (held + support.along) / forces.driving
+    driving = forces.driving - support.along
+    with np.errstate(divide="ignore"):
+        return np.where(driving > 0.0, held / np.where(driving > 0.0, driving, 1.0), np.inf)
+
+
+def factor_of_safety_mohr_coulomb(
+    forces: PlanarForces, cohesion: ArrayLike, friction: ArrayLike, support: Support | None = None
+) -> NDArray:
+    """FS = (c A + max(N, 0) tan phi) / D; c [Pa], phi [rad]; with a support, its active or passive
+    form of the module docstring."""
+
+    def resisting(normal: NDArray) -> NDArray:
+        return np.asarray(cohesion) * forces.plane_length + normal * np.tan(friction)
+
+    return _factor_of_safety(forces, resisting, support)
 
 
 def factor_of_safety_barton_bandis(
-    forces: PlanarForces, jrc: ArrayLike, jcs: ArrayLike, phi_b: ArrayLike, phi_max: ArrayLike
+    forces: PlanarForces,
+    jrc: ArrayLike,
+    jcs: ArrayLike,
+    phi_b: ArrayLike,
+    phi_max: ArrayLike,
+    support: Support | None = None,
 ) -> NDArray:
     """FS = A tau_p(sigma_n) / D with sigma_n = N / A and tau_p from eq 9 (`bbmc.laws`): JRC [1],
-    JCS [Pa], phi_b and phi_max [rad]. No strength where N <= 0."""
-    sigma_n = np.maximum(forces.normal, 0.0) / forces.plane_length
-    strength = laws.peak_shear_strength(sigma_n, jrc, jcs, phi_b, phi_max)
-    return forces.plane_length * strength / forces.driving
+    JCS [Pa], phi_b and phi_max [rad]. No strength where N <= 0. With a support, N + T_n in place of
+    N and its active or passive form of the module docstring."""
+
+    def resisting(normal: NDArray) -> NDArray:
+        return forces.plane_length * laws.peak_shear_strength(
+            normal / forces.plane_length, jrc, jcs, phi_b, phi_max
+        )
+
+    return _factor_of_safety(forces, resisting, support)
