@@ -10,6 +10,7 @@ import os
 import signal
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 import yaml
@@ -332,3 +333,25 @@ def test_no_failure_in_a_large_study_gives_the_exact_upper_bound(tmp_path):
     assert value["reliability_index_pf"] == math.inf
     assert value["reliability_index_pf_lower_bound"] == pytest.approx(-norm.ppf(3.6888e-5), abs=1e-3)
     assert "P_f = 0 (95 % CI 0 to 3.69e-05)" in outcome.output
+
+
+@pytest.mark.parametrize("form", ["active", "passive"])
+def test_a_planar_study_with_an_uncertain_bolt_capacity(tmp_path, form):
+    """The planar block with tan phi = 0.8 and a bolt along the plane (angle 0) whose capacity is a grid
+    axis: W = 1/2 gamma H^2 (cot psi_p - cot psi_f), N = W cos psi_p, D = W sin psi_p, and per sample
+    FS = N tan phi / (D - T) (active) or (N tan phi + T) / D (passive) (1e-12); T = 0 is unsupported."""
+    data = _planar(3, 3)
+    data.pop("variables")
+    data["base"]["support"] = {"force_kN_per_m": 0.0, "angle_deg": 0.0, "form": form}
+    data["sampling"] = {"method": "grid"}
+    forces_kn = [0.0, 500.0, 1500.0]
+    data["grid"] = [{"path": "support.force_kN_per_m", "values": forces_kn}]
+    _, out = _sweep(_config(tmp_path, data), tmp_path)
+    samples = pd.read_csv(out / "planar_block" / "samples.csv").sort_values("support.force_kN_per_m")
+    psi, face = math.radians(35.0), math.radians(60.0)
+    weight = 0.5 * 26e3 * 20.0**2 * (1 / math.tan(psi) - 1 / math.tan(face))
+    n, d = weight * math.cos(psi), weight * math.sin(psi)
+    t = np.array(forces_kn) * 1e3
+    expected = n * 0.8 / (d - t) if form == "active" else (n * 0.8 + t) / d
+    assert samples["factor_of_safety"].to_numpy() == pytest.approx(expected, rel=1e-12)
+    assert expected[0] == pytest.approx(0.8 / math.tan(psi), rel=1e-12)

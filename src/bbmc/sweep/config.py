@@ -39,6 +39,16 @@ class BartonBandisPlane(Section):
     phi_max_deg: Angle = 70.0
 
 
+class PlanarSupport(Section):
+    """A support force per metre run on the planar block (`bbmc.slope.planar.Support`): its angle from
+    the plane's up-dip direction towards the plane (a bolt plunging psi_T below the horizontal: plane_deg
+    + psi_T), counted in RocPlane's active or passive form."""
+
+    force_kN_per_m: Annotated[float, Field(ge=0)]
+    angle_deg: Annotated[float, Field(ge=-180, le=180)]
+    form: Literal["active", "passive"] = "active"
+
+
 class Planar(Section):
     """Hoek & Bray's planar failure with a tension crack (`bbmc.slope.planar`), one sample per set of
     parameters (the whole batch in one vectorised call)."""
@@ -52,6 +62,7 @@ class Planar(Section):
     unit_weight_kN_m3: Positive = 26.0
     seismic_coefficient: Annotated[float, Field(ge=0, le=1)] = 0.0
     strength: MohrCoulombPlane | BartonBandisPlane = Field(discriminator="law")
+    support: PlanarSupport | None = None
 
 
 class Toppling(Section):

@@ -76,6 +76,15 @@ class PlanarModel:
             key: inputs[f"strength.{key}"].to_numpy() if f"strength.{key}" in inputs else value
             for key, value in self.base["strength"].items()
         }
+        support = None
+        if self.base.get("support") is not None:
+            given = {
+                key: inputs[f"support.{key}"].to_numpy() if f"support.{key}" in inputs else value
+                for key, value in self.base["support"].items()
+            }
+            support = planar.Support(
+                np.asarray(given["force_kN_per_m"]) * 1e3, np.radians(given["angle_deg"]), given["form"]
+            )
         z = np.asarray(values["crack_depth_m"], dtype=float)
         forces = planar.planar_forces(
             values["height_m"],
@@ -93,7 +102,7 @@ class PlanarModel:
                 else np.arctan(strength["tan_friction"])
             )
             fs = planar.factor_of_safety_mohr_coulomb(
-                forces, np.asarray(strength["cohesion_kPa"]) * units.kPa, friction
+                forces, np.asarray(strength["cohesion_kPa"]) * units.kPa, friction, support
             )
         else:
             fs = planar.factor_of_safety_barton_bandis(
@@ -102,6 +111,7 @@ class PlanarModel:
                 np.asarray(strength["jcs_MPa"]) * units.MPa,
                 np.radians(strength["phi_b_deg"]),
                 np.radians(strength["phi_max_deg"]),
+                support,
             )
         return np.broadcast_to(fs, (len(inputs),)).astype(float)
 
