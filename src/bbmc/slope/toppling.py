@@ -69,6 +69,18 @@ Equilibrium of block n ([WM04] section 9.4; re-derived here, see ``toppling_forc
     P_{n−1,s} = P_n − W_n (tan φ_p cos α − sin α) / (1 − tan φ_p tan φ_d)
   with W_n = γ y_n Δx. [HB81]'s worked example uses φ_p = φ_d = φ; then 1 − tan φ_p tan φ_d = 1 − tan² φ.
 
+Support on chosen blocks (as RocTopple applies bolts; derived here from the same three equations):
+  a force T_n per metre run on block n's downhill face at h_n above its base, at θ_n from the base's
+  up-dip direction, positive towards the base (into the rock below): T_s = T_n cos θ_n up the base,
+  T_⊥ = T_n sin θ_n onto it. Acting on the face through the pivot's line, T_⊥ has no moment; T_s
+  resists toppling with the arm h_n:
+    R_n = W_n cos α + (P_n − P_{n−1}) tan φ_d + T_⊥
+    S_n = W_n sin α + (P_n − P_{n−1}) − T_s
+    P_{n−1,t} = [P_n (M_n − Δx tan φ_d) + (W_n/2)(y_n sin α − Δx cos α) − T_s h_n] / L_n
+    P_{n−1,s} = P_n − [W_n (tan φ_p cos α − sin α) + T_s + T_⊥ tan φ_p] / (1 − tan φ_p tan φ_d)
+  With T = 0 these are the equations above. A support makes the forces no longer proportional to γ,
+  so the limiting friction and FS then depend on the unit weight.
+
 Procedure, from the top block down ([WM04] 9.4; [IIT]):
   * block n topples if P_{n−1,t} > P_{n−1,s} and P_{n−1,t} > 0, provided toppling is admissible: the
     base stays in compression and does not slip, R_n > 0 and |S_n| < R_n tan φ_p, evaluated with
@@ -171,6 +183,42 @@ class BlockSystem:
         return np.arange(1, self.n_blocks + 1)
 
 
+@dataclass(frozen=True)
+class BlockSupport:
+    """Support forces on the blocks of a system, one entry per block (index 0 = block 1, the toe):
+    force T_n [N per metre run] (0: no support), angle θ_n [rad] from the base's up-dip direction towards
+    the base, height h_n [m] above the base on the block's downhill face (module docstring)."""
+
+    force: NDArray[np.float64]
+    angle: NDArray[np.float64]
+    height: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        for name in ("force", "angle", "height"):
+            object.__setattr__(self, name, np.atleast_1d(np.asarray(getattr(self, name), dtype=float)))
+        if not (self.force.shape == self.angle.shape == self.height.shape) or self.force.ndim != 1:
+            raise ValueError("support force, angle and height need one entry per block")
+        if np.any(~(self.force >= 0.0)):
+            raise ValueError("support force must be >= 0 (a bolt pulls, it cannot push)")
+
+    @classmethod
+    def on_block(
+        cls, blocks: BlockSystem, block: int, force: float, angle: float, height: float
+    ) -> BlockSupport:
+        """One support on block number `block` (1 = toe) of `blocks`, none on the others."""
+        if not 1 <= block <= blocks.n_blocks:
+            raise ValueError(f"block {block} is not one of the system's 1..{blocks.n_blocks}")
+        values = np.zeros((3, blocks.n_blocks))
+        values[:, block - 1] = force, angle, height
+        return cls(*values)
+
+    def check(self, blocks: BlockSystem) -> None:
+        if self.force.size != blocks.n_blocks:
+            raise ValueError(f"support has {self.force.size} entries for {blocks.n_blocks} blocks")
+        if np.any((self.height < 0.0) | (self.height > blocks.heights)):
+            raise ValueError("support height must lie on the block's face, 0 <= h_n <= y_n")
+
+
 def regular_constants(
     width: float, base_dip: float, base_line_dip: float, face_angle: float, upper_slope_angle: float
 ) -> tuple[float, float, float]:
@@ -251,7 +299,11 @@ def regular_block_heights(
 
 # --- the march from the top block down ------------------------------------------------------------
 def _march(
-    blocks: BlockSystem, tan_base: ArrayLike, tan_side: ArrayLike, unit_weight: float
+    blocks: BlockSystem,
+    tan_base: ArrayLike,
+    tan_side: ArrayLike,
+    unit_weight: float,
+    support: BlockSupport | None = None,
 ) -> dict[str, NDArray]:
     """Forces of every block, vectorised over the friction arrays (broadcast together).
 
@@ -268,18 +320,23 @@ def _march(
     dx, alpha = blocks.width, blocks.base_dip
     sa, ca = math.sin(alpha), math.cos(alpha)
     lock = 1.0 - tp * td
+    if support is None:
+        support = BlockSupport(*np.zeros((3, blocks.n_blocks)))
+    support.check(blocks)
+    along, onto = support.force * np.cos(support.angle), support.force * np.sin(support.angle)
     p_above = np.zeros(tp.shape)
     raw = np.zeros(tp.shape)
     with np.errstate(divide="ignore", invalid="ignore"):
         for i in range(blocks.n_blocks - 1, -1, -1):
             y, m_arm, l_arm = blocks.heights[i], blocks.upper_arm[i], blocks.lower_arm[i]
             w = unit_weight * y * dx
-            moment = p_above * (m_arm - dx * td) + 0.5 * w * (y * sa - dx * ca)
+            t_s, t_n = along[i], onto[i]
+            moment = p_above * (m_arm - dx * td) + 0.5 * w * (y * sa - dx * ca) - t_s * support.height[i]
             # if L_n <= 0 the lower force acts at or below the pivot and cannot hold the block
             p_t = moment / l_arm if l_arm > 0.0 else np.where(moment > 0.0, np.inf, -np.inf)
-            p_s = np.where(lock > 0.0, p_above - w * (tp * ca - sa) / lock, -np.inf)
-            r_t = w * ca + (p_above - p_t) * td
-            s_t = w * sa + (p_above - p_t)
+            p_s = np.where(lock > 0.0, p_above - (w * (tp * ca - sa) + t_s + t_n * tp) / lock, -np.inf)
+            r_t = w * ca + (p_above - p_t) * td + t_n
+            s_t = w * sa + (p_above - p_t) - t_s
             admissible = np.isfinite(p_t) & (r_t > 0.0) & (np.abs(s_t) < r_t * tp)
             admissible |= p_t == np.inf  # cannot be held at all: it topples
             topples = admissible & (p_t > p_s) & (p_t > 0.0)
@@ -291,8 +348,8 @@ def _march(
             out["p_topple"][..., i] = p_t
             out["p_slide"][..., i] = p_s
             out["force_below"][..., i] = p_below
-            out["normal_force"][..., i] = w * ca + (p_above - p_below) * td
-            out["shear_force"][..., i] = w * sa + (p_above - p_below)
+            out["normal_force"][..., i] = w * ca + (p_above - p_below) * td + t_n
+            out["shear_force"][..., i] = w * sa + (p_above - p_below) - t_s
             out["mode"][..., i] = mode
             p_above = p_below
     out["toe_force"] = raw
@@ -359,13 +416,18 @@ class TopplingTable:
 
 
 def toppling_forces(
-    blocks: BlockSystem, friction: float, unit_weight: float, side_friction: float | None = None
+    blocks: BlockSystem,
+    friction: float,
+    unit_weight: float,
+    side_friction: float | None = None,
+    support: BlockSupport | None = None,
 ) -> TopplingTable:
     """Goodman & Bray's block-by-block limit equilibrium, from the top block down.
 
     blocks: the block system (``regular_block_heights`` or a ``BlockSystem`` of measured heights);
     friction φ_p [rad] on the block bases; unit_weight γ [N/m³]; side_friction φ_d [rad] on the block
-    sides (default: = friction, as in [HB81]'s example).
+    sides (default: = friction, as in [HB81]'s example); support: forces on chosen blocks (module
+    docstring), none by default.
 
     Equilibrium of block n (axes along and normal to its base; moments about its downhill base corner;
     P_n pushes it downhill at M_n with the side shear Q_n = P_n tan φ_d pressing its uphill side down;
@@ -374,10 +436,10 @@ def toppling_forces(
       along:   S_n = W_n sin α + (P_n − P_{n−1})
       moment:  P_{n−1} L_n = P_n (M_n − Δx tan φ_d) + (W_n/2)(y_n sin α − Δx cos α)   → P_{n−1,t}
       sliding: S_n = R_n tan φ_p                                                     → P_{n−1,s}
-    The mode rules are in the module docstring.
+    The mode rules and the support's terms are in the module docstring.
     """
     phi_d = friction if side_friction is None else side_friction
-    res = _march(blocks, math.tan(friction), math.tan(phi_d), unit_weight)
+    res = _march(blocks, math.tan(friction), math.tan(phi_d), unit_weight, support)
     y = blocks.heights
     return TopplingTable(
         block=blocks.numbers,
@@ -402,11 +464,27 @@ def toppling_forces(
 
 
 def toe_force(
-    blocks: BlockSystem, friction: ArrayLike, unit_weight: float, side_friction: ArrayLike | None = None
+    blocks: BlockSystem,
+    friction: ArrayLike,
+    unit_weight: float,
+    side_friction: ArrayLike | None = None,
+    support: BlockSupport | None = None,
 ) -> NDArray[np.float64]:
     """P_0 [N/m], the force the toe block needs on its lower side, vectorised over friction [rad]."""
     phi_d = friction if side_friction is None else side_friction
-    return _march(blocks, np.tan(friction), np.tan(phi_d), unit_weight)["toe_force"]
+    return _march(blocks, np.tan(friction), np.tan(phi_d), unit_weight, support)["toe_force"]
+
+
+def _weight_scale(
+    blocks: BlockSystem, support: BlockSupport | None, unit_weight: float | None
+) -> tuple[float, float]:
+    """The unit weight the march needs (1 without support: every force then scales with γ) and the
+    blocks' total weight, the scale of P_0 in the root searches."""
+    if support is None:
+        return 1.0, blocks.width * float(blocks.heights.sum())
+    if unit_weight is None or not unit_weight > 0.0:
+        raise ValueError("a supported system needs its unit weight (> 0): the forces no longer scale with it")
+    return unit_weight, unit_weight * blocks.width * float(blocks.heights.sum())
 
 
 def horizontal_toe_support(
@@ -429,20 +507,25 @@ def horizontal_toe_support(
 
 
 def limiting_friction(
-    blocks: BlockSystem, bracket: tuple[float, float] | None = None, xtol: float = 1e-13
+    blocks: BlockSystem,
+    bracket: tuple[float, float] | None = None,
+    xtol: float = 1e-13,
+    support: BlockSupport | None = None,
+    unit_weight: float | None = None,
 ) -> float:
     """The friction angle φ_limit [rad] (bases and sides alike) at which P_0 = 0 (Brent's method).
 
-    Independent of the unit weight (every force scales with γ). bracket: (low, high) [rad] with
-    P_0(low) > 0 > P_0(high); default (1e-6, π/4 − 1e-9), as the sliding equation needs tan² φ < 1.
+    Independent of the unit weight without support (every force scales with γ); with a support, its
+    unit_weight γ [N/m³] is needed. bracket: (low, high) [rad] with P_0(low) > 0 > P_0(high); default
+    (1e-6, π/4 − 1e-9), as the sliding equation needs tan² φ < 1.
     """
     low, high = bracket if bracket is not None else (1e-6, math.pi / 4 - 1e-9)
-    scale = blocks.width * float(blocks.heights.sum())  # the blocks' total weight per unit γ
+    gamma, scale = _weight_scale(blocks, support, unit_weight)
 
     def p0(phi: float) -> float:
         # arctan keeps the sign and the root but maps P_0 = ±inf (a block its lower neighbour
         # cannot hold, or sliding locked by side friction) to ±π/2 so that Brent's method can work
-        return math.atan(float(toe_force(blocks, phi, 1.0)) / scale)
+        return math.atan(float(toe_force(blocks, phi, gamma, support=support)) / scale)
 
     f_low, f_high = p0(low), p0(high)
     if not (f_low > 0.0 > f_high):
@@ -453,26 +536,39 @@ def limiting_friction(
 
 
 def factor_of_safety(
-    blocks: BlockSystem, friction: ArrayLike, side_friction: ArrayLike | None = None
+    blocks: BlockSystem,
+    friction: ArrayLike,
+    side_friction: ArrayLike | None = None,
+    support: BlockSupport | None = None,
+    unit_weight: float | None = None,
 ) -> NDArray[np.float64]:
     """FS [1]: the factor by which tan φ_p and tan φ_d must both be divided for P_0 = 0; broadcast over
     arrays of friction angles [rad] (a Monte Carlo calls it once for all samples).
 
-    With one friction angle on bases and sides this is [HB81]'s FS = tan φ / tan φ_limit.
+    With one friction angle on bases and sides this is [HB81]'s FS = tan φ / tan φ_limit. A support
+    (not reduced) needs the unit weight γ [N/m³].
     """
     if side_friction is None:
-        return np.tan(friction) / math.tan(limiting_friction(blocks))
-    return np.vectorize(lambda p, d: _factor_of_safety_two_angles(blocks, p, d), otypes=[float])(
-        friction, side_friction
-    )
+        limit = limiting_friction(blocks, support=support, unit_weight=unit_weight)
+        return np.tan(friction) / math.tan(limit)
+    return np.vectorize(
+        lambda p, d: _factor_of_safety_two_angles(blocks, p, d, support, unit_weight), otypes=[float]
+    )(friction, side_friction)
 
 
-def _factor_of_safety_two_angles(blocks: BlockSystem, friction: float, side_friction: float) -> float:
+def _factor_of_safety_two_angles(
+    blocks: BlockSystem,
+    friction: float,
+    side_friction: float,
+    support: BlockSupport | None,
+    unit_weight: float | None,
+) -> float:
     tp, td = math.tan(friction), math.tan(side_friction)
-    scale = blocks.width * float(blocks.heights.sum())
+    gamma, scale = _weight_scale(blocks, support, unit_weight)
 
     def p0(fs: float) -> float:
-        return math.atan(float(toe_force(blocks, math.atan(tp / fs), 1.0, math.atan(td / fs))) / scale)
+        reduced = toe_force(blocks, math.atan(tp / fs), gamma, math.atan(td / fs), support)
+        return math.atan(float(reduced) / scale)
 
     low, high = 1e-3, 1e3
     # keep tan φ_p tan φ_d / FS² < 1 so the sliding equation stays defined
