@@ -7,60 +7,10 @@ is cut into N rectangular blocks of width Δx standing on a stepped base. Each b
 through the steps, the overall base, dips at ψ_b ≥ α. Blocks are numbered from the toe (block 1)
 upwards. Going from the top block down, each block n receives the force P_n from the block above and
 passes P_{n−1} to the block below; the force left on the toe block's lower side, P_0, is the support
-the slope needs (negative: a surplus, the slope stands).
+the slope needs (negative: a surplus, the slope stands). Units: SI inside and out (m, rad, γ in N/m³,
+forces in N per metre of slope).
 
-Units: SI inside and out. Lengths in m, angles in rad, unit weight γ in N/m³, forces in N per metre of
-slope (out-of-plane thickness 1 m).
-
-Sources, and where each formula was checked
--------------------------------------------
-[GB76]  Goodman, R.E. & Bray, J.W. (1976) Toppling of rock slopes. Proc. Specialty Conf. on Rock
-        Engineering for Foundations and Slopes, ASCE, Boulder, Colorado, August 1976, 201-234.
-        (found: https://scribd.com/document/474062508/Toppling-of-Rock-Slopes-Goodman-Bray-1976-pdf ;
-        only the abstract was readable: "a limit equilibrium analysis ... for the special case of block
-        toppling on a stepped base: the product of this analysis is the required support force at the
-        toe of the slope").
-[HB81]  Hoek, E. & Bray, J.W. (1981) Rock Slope Engineering, 3rd ed., IMM London, ch. 10. Not found
-        in the searchable material; everything below attributed to "the published procedure" is cited
-        through [WM04] and the secondary sources.
-[WM04]  Wyllie, D.C. & Mah, C.W. (2004) Rock Slope Engineering: Civil and Mining, 4th ed., Spon,
-        section 9.4. Page 239 was found (http://what-when-how.com/Tutorial/topic-267uufanlp/
-        Rock-Slope-Engineering-Civil-and-Mining-239.html): eq. 9.32, the sliding force with water,
-        whose dry part is P_{n−1,s} = P_n − W_n (cos ψ_p tan φ_p − sin ψ_p) / (1 − tan φ_p tan φ_d),
-        with separate friction on the bases (φ_p) and the sides (φ_d).
-[IIT]   R. Rai, NPTEL/IIT-BHU lecture "Limit equilibrium analysis for toppling failure"
-        (http://www.iitbhu.ac.in/faculty/min/rajesh-rai/NMEICT-Slope/lecture/c3/l11.html): the three
-        sets (stable at the top, toppling, sliding at the toe), the forces P_n, Q_n = P_n tan φ_d,
-        R_n, S_n, and "the points of application of the normal forces P_n are M_n and L_n on the upper
-        and lower faces".
-[RS]    Rocscience RocTopple / RocSlope2 help, "Overall Base Inclination"
-        (https://rocscience.com/help/rocslope2/documentation/slope/slope-geometry/overall-base-inclination):
-        ψ_b is the line from the toe to the exit point on the upper slope and is always ≥ the block
-        base angle; "Slope Geometry" (https://www.rocscience.com/help/roctopple/documentation/input-data/
-        slope-geometry): slope height = vertical height from toe to crest.
-
-Regular system (heights and moment arms) -- [GB76]/[HB81]/[WM04] as summarised in the task brief; the
-formulas below were re-derived here from the stepped geometry and agree:
-    a1 = Δx tan(ψ_f − α)    rise of the face over one block, normal to the bases
-    a2 = Δx tan(α − ψ_s)    fall of the upper slope over one block
-    b  = Δx tan(ψ_b − α)    height of one step of the base
-    y_n = n (a1 − b)                  n ≤ n_c (blocks below the crest and the crest block n_c)
-    y_n = y_{n−1} − a2 − b            n > n_c (blocks above the crest)
-    M_n = y_n,       L_n = y_n − a1   n < n_c
-    M_n = y_n − a2,  L_n = y_n − a1   n = n_c
-    M_n = y_n − a2,  L_n = y_n        n > n_c
-  M_n, L_n are the heights above block n's base at which P_n and P_{n−1} act: the top corner of the
-  shorter of the two blocks in contact. With steps of b, this is M_n = min(y_n, y_{n+1} + b) and
-  L_n = min(y_n, y_{n−1} − b) (y_0 = 0), which gives the six lines above (checked in the tests).
-
-Crest block (derived here; [WM04]'s example states the crest block, n_c = 10, rather than a rule):
-  in this idealisation the uphill top corner of every block below the crest lies on the face line,
-  at a vertical height n Δx sin ψ_f / cos(ψ_f − α) above the toe. The crest block is the first block
-  whose corner reaches the slope height H: n_c = ceil(H cos(ψ_f − α) / (Δx sin ψ_f)). For the worked
-  example (H = 92.5 m, Δx = 10 m, ψ_f = 56.6°, α = 30°) this is ceil(9.91) = 10. Blocks above the
-  crest continue while y_n > 0 (16 blocks in the example).
-
-Equilibrium of block n ([WM04] section 9.4; re-derived here, see ``toppling_forces``):
+Equilibrium of block n (Wyllie & Mah 2004, section 9.4; re-derived here, see ``toppling_forces``):
     R_n = W_n cos α + (P_n − P_{n−1}) tan φ_d                 normal force on the base
     S_n = W_n sin α + (P_n − P_{n−1})                         shear force on the base
     toppling about its downhill base corner:
@@ -81,42 +31,13 @@ Support on chosen blocks (as RocTopple applies bolts; derived here from the same
   With T = 0 these are the equations above. A support makes the forces no longer proportional to γ,
   so the limiting friction and FS then depend on the unit weight.
 
-Procedure, from the top block down ([WM04] 9.4; [IIT]):
-  * block n topples if P_{n−1,t} > P_{n−1,s} and P_{n−1,t} > 0, provided toppling is admissible: the
-    base stays in compression and does not slip, R_n > 0 and |S_n| < R_n tan φ_p, evaluated with
-    P_{n−1} = P_{n−1,t} (S_n < R_n tan φ_p holds by itself whenever P_{n−1,t} > P_{n−1,s} and
-    tan φ_p tan φ_d < 1, since S_n − R_n tan φ_p falls with P_{n−1} and is zero at P_{n−1,s}; the check
-    bites through R_n ≤ 0 or S_n ≤ −R_n tan φ_p, the block pushed back up its base);
-  * otherwise it slides if P_{n−1,s} > 0;
-  * otherwise it is stable and passes nothing down (P_{n−1} = 0).
-  So the force passed down is max(P_{n−1,t} if admissible, P_{n−1,s}, 0). With nothing from above
-  (P_n = 0, L_n > 0, φ_p + φ_d < 90°) this is the single-block test: topples iff y_n/Δx > cot α,
-  slides iff α > φ_p.
-  The toe block's governing value max(P_{0,t} if admissible, P_{0,s}) is not clipped at zero: it is the
-  support force P_0 (positive: needed, negative: surplus).
-  Three details the retrieved text does not spell out, chosen here and stated:
-    - a toppling candidate that fails the base check is not admissible and the block is treated by
-      the sliding equation (in the worked example this happens only far below the limit, e.g. block 2
-      at φ = 21°).
-    - if L_n ≤ 0 the lower force acts at or below the pivot and cannot resist toppling:
-      P_{n−1,t} = +inf if the toppling moment from above and from the weight is positive (the block
-      cannot be held), −inf otherwise (it does not topple). The regular system's toe block always has
-      L_1 = y_1 − a1 = −b < 0; near the example's limit its moment is restoring, so it is governed by
-      sliding. Dividing by L_1 instead would give e.g. 13 981 kN/m at φ = 33.02°, with R_1 < 0, which
-      the base check would reject as well; keeping the sliding value is what reproduces the
-      independent recomputations of Rocscience's RS2 verification problem quoted in the tests
-      (0.36 kN/m and 2012.86 kN/m of horizontal toe force).
-    - if tan φ_p tan φ_d ≥ 1 the side friction locks sliding: P_{n−1,s} = −inf.
-
-Cross-checks used in tests/test_toppling_le.py (third-party, not the book): the run printed in the
-README of hdaltuntas/lythoskinematic (exact geometry: heights, weights, P for blocks 5 and 13) and the
-Rocscience RS2 joint verification problem 1 as transcribed in the "Rocscience RS2 Joint Corpus" page
-of the XSLOPE documentation, found by the code search (rounded geometry a1 = a2 = 5 m, b = 1 m;
-horizontal toe forces 0.36 and 2012.86 kN/m, the manual's 2013 kN).
-
-Limiting equilibrium and factor of safety ([HB81]/[WM04]): the friction angle at which P_0 = 0, found
+Limiting equilibrium and factor of safety ([HB81], [WM04]): the friction angle at which P_0 = 0, found
 here with Brent's method; the factor of safety is the factor by which tan φ must be divided to reach
 it, FS = tan φ / tan φ_limit when the bases and sides share one friction angle.
+
+The sources ([GB76], [HB81], [WM04], [IIT], [RS]) and where each formula was checked, the regular
+system's heights and arms, the crest block, the marching procedure with its three stated choices, and
+the cross-checks: docs/reference/toppling-method.md.
 """
 
 from __future__ import annotations
