@@ -15,7 +15,7 @@ its statistics), and drops them beside an error line.
 
 Each example's time is capped by the seed's budget: steps, samples and trial lengths are set small in
 the seed and held at most there after a mutation (`Seed.caps`); everything else is free. The number of
-examples is BBMC_FUZZ_EXAMPLES: 30 in `make test` (the same examples every run, the slope and shear
+examples is BBMC_FUZZ_EXAMPLES: 50 in `make test` (the same examples every run, the slope and shear
 seeds left out for time), and `make fuzz` runs many more over every seed, drawn afresh each time (a
 failure found is kept in .hypothesis/ and tried first next time).
 """
@@ -42,7 +42,7 @@ from hypothesis import strategies as st
 from bbmc.cli import main
 from stage_runs import CONFIGS, PAPER
 
-EXAMPLES = int(os.environ.get("BBMC_FUZZ_EXAMPLES", "30"))
+EXAMPLES = int(os.environ.get("BBMC_FUZZ_EXAMPLES", "50"))
 LONG = "BBMC_FUZZ_EXAMPLES" in os.environ  # make fuzz: fresh draws each run
 
 
