@@ -186,10 +186,9 @@ def _capped(tree: object, caps: dict[str, float]) -> object:
 
 def _local_paths(tree: dict) -> dict:
     """Data and config paths in a config pointed at the copies beside it (same file names)."""
-    for section in ("data",):
-        for key, value in tree.get(section, {}).items():
-            tree[section][key] = Path(value).name
-    for key in ("fit_config", "mc_config", "shear_config", "slope_config"):
+    for key, value in tree.get("data", {}).items():
+        tree["data"][key] = Path(value).name
+    for key in ("fit_config", "mc_config"):
         if key in tree:
             tree[key] = Path(tree[key]).name
     base = tree.get("base")
@@ -202,7 +201,7 @@ def _seed_files(seed: Seed) -> dict[str, bytes]:
     """The seed's files by name: its config (made small), the configs and scenes it reads, its data."""
     trees = {}
     for name in (seed.config, *seed.scenes):
-        if name == "sweeps/scene_run.yaml":
+        if name == "sweeps/scene_run.yaml":  # made here: configs/ has no study of a scene_run
             trees[Path(name).name] = copy.deepcopy(SCENE_RUN_STUDY)
             continue
         tree = yaml.safe_load((CONFIGS / name).read_text())
