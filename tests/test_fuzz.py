@@ -157,9 +157,12 @@ SCENE_RUN_STUDY = {
 
 
 def _set(tree: object, path: str, value: object) -> None:
+    """The value at a dotted path that exists (list entries by index) set to `value`."""
     *parents, last = path.split(".")
     node = _get(tree, ".".join(parents)) if parents else tree
-    if isinstance(node, dict) and last in node:
+    if isinstance(node, list):
+        node[int(last)] = value
+    elif isinstance(node, dict) and last in node:
         node[last] = value
 
 
@@ -469,6 +472,8 @@ FOUND = [
     ("fit", "table1_measurements.csv", "2:K_si_GPa_per_m", 5e8, 2, "nonlinear least squares found no"),
     ("shear", "shear.yaml", "joint_options.stress_floor_MPa", 0.001, 2, "stopped at step"),  # before shearing
     ("slope", "slope.yaml", "slope.height_m", 1e-29, 2, "it makes no block"),
+    ("slope", "slope.yaml", "sensitivity.dips_deg.1", 4e31, 2, "key 'sensitivity.dips_deg.1'"),
+    ("shear", "equation_constants.csv", "3:value", 4.881e299, 2, "ks_MPa_per_mm': Input should be greater"),
 ]
 
 

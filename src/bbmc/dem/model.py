@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from bbmc import laws, units
-from bbmc.config import ConfigError
+from bbmc.config import ConfigError, validate
 from bbmc.dem import detection, polygons
 from bbmc.dem import layout as L
 from bbmc.dem.scene import (
@@ -329,6 +329,12 @@ def _check_inertia(blocks: np.ndarray, names: list[str], entries: list[BlockEntr
             f"block '{names[i]}': its mass ({mass:.3g} kg) and moment of inertia ({moment:.3g} kg m^2) "
             "are beyond floating point",
         )
+
+
+def built_scene(tree: dict, name: str) -> Model:
+    """A scene that code builds (a mapping in the scene format) checked and built as a scene file is: a
+    fault is one `ConfigError` line naming `name` and the key."""
+    return build_model(validate(tree, Scene, name, strict=False), Path(name))
 
 
 def build_model(scene: Scene, path: Path) -> Model:
