@@ -377,3 +377,14 @@ def test_figures_build_and_save(tmp_path):
         path = tmp_path / f"{name}.png"
         fig.savefig(path)
         assert path.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("mean", [3.87, 1e-6, 3.87e-300])
+def test_lognormal_parameters_give_back_the_mean_and_spread_at_any_scale(mean):
+    """E[X] = exp(mu + sigma^2 / 2) and CoV^2 = exp(sigma^2) - 1, in logs so that a mean of 3.87e-300
+    (whose (std/mean)^2 overflowed, a traceback) is checked too."""
+    std = 0.2 * 3.87
+    mu, sigma = design.lognormal_parameters(mean, std)
+    assert mu + 0.5 * sigma**2 == pytest.approx(math.log(mean), rel=1e-12)
+    log_cov2 = sigma**2 + math.log(-math.expm1(-(sigma**2)))  # ln(exp(sigma^2) - 1), without overflow
+    assert 0.5 * log_cov2 == pytest.approx(math.log(std / mean), rel=1e-12)
