@@ -472,6 +472,7 @@ FOUND = [
     ("fit", "table1_measurements.csv", "2:K_si_GPa_per_m", 5e8, 2, "nonlinear least squares found no"),
     ("shear", "shear.yaml", "joint_options.stress_floor_MPa", 0.001, 2, "stopped at step"),  # before shearing
     ("slope", "slope.yaml", "slope.height_m", 1e-29, 2, "it makes no block"),
+    ("joint", "joint.yaml", "lab_length_m", 1e-308, 0, ""),  # delta_peak = L/500 (JRC/L)^0.33 overflowed
     ("slope", "slope.yaml", "sensitivity.dips_deg.1", 4e31, 2, "key 'sensitivity.dips_deg.1'"),
     ("shear", "equation_constants.csv", "3:value", 4.881e299, 2, "ks_MPa_per_mm': Input should be greater"),
 ]
