@@ -532,3 +532,14 @@ def test_a_probability_of_failure_of_zero_is_printed_with_its_upper_bound():
 @pytest.mark.parametrize(("p", "text"), [(0.0, "0"), (1.0, "1"), (3.6888e-5, "3.69e-05"), (0.25239, "0.252")])
 def test_probability_text(p, text):
     assert figures.probability_text(p) == text
+
+
+@pytest.mark.parametrize("mean", [3.87, 1e-6, 3.87e-300])
+def test_lognormal_parameters_give_back_the_mean_and_spread_at_any_scale(mean):
+    """E[X] = exp(mu + sigma^2 / 2) and CoV^2 = exp(sigma^2) - 1, in logs so that a mean of 3.87e-300
+    (whose (std/mean)^2 overflowed, a traceback) is checked too."""
+    std = 0.2 * 3.87
+    mu, sigma = design.lognormal_parameters(mean, std)
+    assert mu + 0.5 * sigma**2 == pytest.approx(math.log(mean), rel=1e-12)
+    log_cov2 = sigma**2 + math.log(-math.expm1(-(sigma**2)))  # ln(exp(sigma^2) - 1), without overflow
+    assert 0.5 * log_cov2 == pytest.approx(math.log(std / mean), rel=1e-12)

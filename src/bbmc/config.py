@@ -247,14 +247,18 @@ def load_config(path: str | Path, model: type[ModelT]) -> ModelT:
     return validate(raw, model, str(path), path.parent)
 
 
-def validate(raw: object, model: type[ModelT], source: str, base_dir: Path = Path(".")) -> ModelT:
+def validate(
+    raw: object, model: type[ModelT], source: str, base_dir: Path = Path("."), strict: bool | None = None
+) -> ModelT:
     """Validate a parsed config (a mapping) against `model`; `source` names it in the one-line
-    `ConfigError`; relative paths in it are taken from `base_dir`. A valid config's values outside
-    their plausible range for rock are warned about (`bbmc.plausibility.ImplausibleValue`)."""
+    `ConfigError`; relative paths in it are taken from `base_dir`; `strict=False` lets a config that
+    code builds pass numbers of other types (numpy's) where the model's types are strict. A valid
+    config's values outside their plausible range for rock are warned about
+    (`bbmc.plausibility.ImplausibleValue`)."""
     if not isinstance(raw, dict):
         raise ConfigError(f"{source}: top level must be a mapping of keys, got {type(raw).__name__}")
     try:
-        settings = model.model_validate(raw, context={"base_dir": base_dir})
+        settings = model.model_validate(raw, strict=strict, context={"base_dir": base_dir})
     except ValidationError as exc:
         errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
         raise ConfigError(f"{source}: {_describe(model, errors[0])}") from None

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from bbmc import units
+from bbmc.config import validate
 from bbmc.dem import layout as L
 from bbmc.dem import polygons
 from bbmc.dem.block_shapes import (
@@ -166,6 +167,12 @@ def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> 
     normals = np.column_stack([tangents[:, 1], -tangents[:, 0]])
     normals /= np.hypot(normals[:, 0], normals[:, 1])[:, None]
     return int(np.argmax(normals @ direction))
+
+
+def built_scene(tree: dict, name: str) -> Model:
+    """A scene that code builds (a mapping in the scene format) checked and built as a scene file is: a
+    fault is one `ConfigError` line naming `name` and the key."""
+    return build_model(validate(tree, Scene, name, strict=False), Path(name))
 
 
 def build_model(scene: Scene, path: Path) -> Model:

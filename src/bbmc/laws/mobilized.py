@@ -124,10 +124,11 @@ def peak_shear_displacement(length: float, jrc: float) -> float:
 
     length L [m] (the block or joint length, L_n in the field); jrc [1] (JRC_n). L <= 0 or JRC <= 0 give
     0, the limit of the formula (a joint with delta_peak = 0 is at residual for any displacement).
+    Evaluated as L^0.67 JRC^0.33 / 500: JRC/L overflowed for L = 1e-308 m (delta_peak infinite).
     """
     if length <= 0.0 or jrc <= 0.0:
         return 0.0
-    return length / 500.0 * (jrc / length) ** 0.33
+    return length**0.67 * jrc**0.33 / 500.0
 
 
 @numba.njit(cache=True)

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
@@ -33,8 +32,7 @@ from pydantic import Field, model_validator
 from bbmc import laws, units
 from bbmc.config import Section
 from bbmc.dem.layout import SLIPPED
-from bbmc.dem.model import EVERY_ECONOMY, Economy, build_model
-from bbmc.dem.scene import Scene
+from bbmc.dem.model import EVERY_ECONOMY, Economy, built_scene
 from bbmc.dem.solver import SimulationError, simulate
 from bbmc.joint import model as jm
 
@@ -294,7 +292,7 @@ def constant_velocity_scene(
 
 
 def _simulate(scene: dict, economy: Economy):
-    model = build_model(Scene.model_validate(scene), Path(f"<{scene['name']}>"))
+    model = built_scene(scene, f"<{scene['name']}>")
     return simulate(replace(model, economy=economy))
 
 

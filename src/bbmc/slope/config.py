@@ -14,6 +14,8 @@ from bbmc.config import InputFile, Section, load_config
 from bbmc.dem.scene import JointedSlope, StrengthReduction
 from bbmc.slope import model as sm
 
+Dip = Annotated[float, Field(gt=0, lt=90)]  # of the bedding [deg]
+
 
 class Inputs(Section):
     table4_rock_mass: InputFile
@@ -34,7 +36,7 @@ class Claims(Section):
 class LimitEquilibrium(Section):
     block_length_m: float = Field(gt=0)
     block_thickness_m: float = Field(gt=0)
-    dips_deg: list[float] = Field(min_length=2)  # the sweep drawn in fs_vs_dip.png
+    dips_deg: list[Dip] = Field(min_length=2)  # the sweep drawn in fs_vs_dip.png
     tolerance_deg: float = Field(gt=0)  # bisection of the engine's critical dip
     agreement_deg: dict[sm.JointModel, float]  # stated agreement, engine vs limit equilibrium
     max_steps: int = Field(ge=1)
@@ -44,7 +46,7 @@ class LimitEquilibrium(Section):
 
 
 class Sensitivity(Section):
-    dips_deg: list[float] = Field(min_length=1)
+    dips_deg: list[Dip] = Field(min_length=1)
 
 
 class FactorOfSafety(StrengthReduction):

@@ -15,13 +15,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from pathlib import Path
 
 from scipy.optimize import brentq
 
 from bbmc import laws, units
-from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
+from bbmc.dem.model import built_scene
 from bbmc.dem.solver import simulate
 
 G = 9.81  # [m/s^2], as the scenes' default gravity
@@ -126,7 +124,7 @@ class UndecidedError(ValueError):
 def engine_slides(scene: dict) -> bool:
     """Run the block: True if it moved `slide_m` (slides), False if it came to rest (holds).
     UndecidedError if it did neither within max_steps (creeping too close to FS = 1 to decide)."""
-    model = build_model(Scene.model_validate(scene, strict=False), Path(f"{scene['name']}.yaml"))
+    model = built_scene(scene, f"{scene['name']}.yaml")
     summary = simulate(model).summary.set_index("quantity")["value"]
     if summary["stopped_by_displacement"]:
         return True

@@ -13,15 +13,14 @@ eq 9 at the plane's mean effective normal stress.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from bbmc import units
 from bbmc.dem import layout as L
-from bbmc.dem.model import Model, build_model
-from bbmc.dem.scene import Scene, name_part
+from bbmc.dem.model import Model, built_scene
+from bbmc.dem.scene import name_part
 from bbmc.dem.solver import simulate
 from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.joint.derived import full_joint
@@ -51,7 +50,7 @@ def strength_reduction(
 ) -> tuple[Model, StrengthReductionResult]:
     """The slope's FS with one joint model by strength reduction (its wall time: `bbmc bench`)."""
     scene = reduction_scene(config, table4, kind)
-    model = build_model(Scene.model_validate(scene, strict=False), Path(f"slope_{kind}.yaml"))
+    model = built_scene(scene, f"slope_{kind}.yaml")
     return model, factor_of_safety(model)
 
 
@@ -169,14 +168,12 @@ def residual_comparison(config: Config, table4: sm.Table4) -> pd.DataFrame:
     for name, law in joints.items():
         scene = sm.slope_scene(f"slope_{name}", config.slope, table4.density_kg_m3, law, config.run, [])
         scene["solver"]["update_interval_steps"] = r.update_interval_steps
-        model = build_model(Scene.model_validate(scene, strict=False), Path(f"{name}.yaml"))
+        model = built_scene(scene, f"{name}.yaml")
         run = simulate(model)
         free = ~model.immobile
         moved = np.hypot(*(run.state.blocks[free][:, [L.X, L.Y]] - model.blocks[free][:, [L.X, L.Y]]).T)
         fos_scene = for_strength_reduction(scene, config)
-        result = factor_of_safety(
-            build_model(Scene.model_validate(fos_scene, strict=False), Path(f"{name}.yaml"))
-        )
+        result = factor_of_safety(built_scene(fos_scene, f"{name}.yaml"))
         rows.append(
             {
                 "joint": name,

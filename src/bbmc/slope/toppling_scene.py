@@ -16,13 +16,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import pandas as pd
 from scipy.optimize import bisect
 
-from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
+from bbmc.dem.model import built_scene
 from bbmc.dem.solver import RunResult, simulate
 from bbmc.slope.limit_equilibrium import G
 from bbmc.slope.toppling import BlockSystem
@@ -114,7 +112,7 @@ def toppling_scene(blocks: BlockSystem, friction_deg: float, settings: TrialSett
 
 def run_trial(blocks: BlockSystem, friction_deg: float, settings: TrialSettings) -> RunResult:
     scene = toppling_scene(blocks, friction_deg, settings)
-    return simulate(build_model(Scene.model_validate(scene), Path(f"<toppling slope at {friction_deg} deg>")))
+    return simulate(built_scene(scene, f"<toppling slope at {friction_deg} deg>"))
 
 
 def holds(result: RunResult) -> bool:

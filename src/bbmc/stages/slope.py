@@ -27,8 +27,8 @@ import pandas as pd
 from bbmc.config import ConfigError
 from bbmc.dem import layout as L
 from bbmc.dem.figures import mechanism_figure
-from bbmc.dem.model import Model, build_model
-from bbmc.dem.scene import JointedSlope, Scene
+from bbmc.dem.model import Model, built_scene
+from bbmc.dem.scene import JointedSlope
 from bbmc.dem.solver import SimulationError, simulate
 from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
@@ -78,7 +78,7 @@ def _model(
     law = sm.joint_law(kind, table4, config.constant, config.barton_bandis)
     scene = sm.slope_scene(f"slope_{kind}", slope, table4.density_kg_m3, law, config.run, monitors)
     try:
-        return build_model(Scene.model_validate(scene, strict=False), Path(f"slope_{kind}.yaml"))
+        return built_scene(scene, f"slope_{kind}.yaml")
     except ConfigError as error:  # the scene is the config's slope and Table 4's parameters
         raise SimulationError(
             f"key 'slope': the {kind} slope it makes is refused: {error}", bad_input=True

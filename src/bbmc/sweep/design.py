@@ -82,8 +82,10 @@ def lognormal_parameters(mean: float, std: float) -> tuple[float, float]:
         sigma^2 = ln(1 + (s/m)^2),   mu = ln m - sigma^2 / 2
 
     (Aitchison & Brown 1957; the inverse of E[X] = exp(mu + sigma^2/2), V[X] = E[X]^2 (exp(sigma^2) - 1)).
+    1 + (s/m)^2 is taken as hypot(1, s/m)^2, which does not overflow (a mean of 3.87e-300 did).
     """
-    sigma2 = math.log1p((std / mean) ** 2)
+    ratio = std / mean
+    sigma2 = math.log1p(ratio * ratio) if abs(ratio) < 1e150 else 2.0 * math.log(math.hypot(1.0, ratio))
     return math.log(mean) - 0.5 * sigma2, math.sqrt(sigma2)
 
 

@@ -11,15 +11,13 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from bbmc import units
 from bbmc.config import ConfigError
-from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
+from bbmc.dem.model import built_scene
 from bbmc.dem.solver import SimulationError, simulate
 from bbmc.dem.strength_reduction import factor_of_safety
 from bbmc.slope import planar, toppling
@@ -173,7 +171,7 @@ class SceneModel:
         tree = copy.deepcopy(self.scene)
         for path, value in values.items():
             set_path(tree, str(path), float(value))
-        model = build_model(Scene.model_validate(tree, strict=False), Path(self.name))
+        model = built_scene(tree, self.name)
         if self.kind == "scene_fos":
             return {FS: factor_of_safety(model).factor_of_safety}
         result = simulate(model)
