@@ -143,7 +143,6 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
         breaks = laws[own, BREAKS_INTO]
         for s in range(c * n_sub, (c + 1) * n_sub):
             j = breaks if breaks >= 0 and subs[s, SLIPPED] != 0.0 else own
-            p = params[j]
             sigma = subs[s, SN]
             if (
                 changed_only
@@ -155,6 +154,7 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
             subs[s, LAW_SN] = sigma
             subs[s, LAW_TAU] = subs[s, TAU]
             subs[s, LAW_PATH] = subs[s, PATH]
+            p = params[j]  # after the skip: an unchanged share costs no row view
             floored = max(sigma, p[P_STRESS_FLOOR])
             if laws[j, NORMAL_LAW] == NORMAL_EQ8:
                 subs[s, KN] = normal_stiffness(floored, p[P_Q], p[P_LG_E])
