@@ -171,8 +171,85 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
     subs[s, CLOSED] = closed
 
 
-@numba.njit(cache=True)
-def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt):
+@numba.njit(cache=True, inline="always")
+def _contact(c, blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, size):
+    """Contact c's shares updated in place (`contact_forces`); returns its force on block B and the
+    moments of that force about B's and about A's centroid: (fx [N], fy [N], moment on B [N m],
+    moment of the opposite force on A, negated [N m]), zeros for an inactive contact."""
+    a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
+    ea, eb = contacts[c, EDGE_A], contacts[c, EDGE_B]
+    active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, size, a, b)
+    first = c * n_sub
+    if not active:
+        for s in range(first, first + n_sub):
+            _open(subs, s)
+            subs[s, LENGTH] = 0.0
+        return 0.0, 0.0, 0.0, 0.0
+    tx, ty = -ny, nx
+    joint = contacts[c, JOINT_TYPE]
+    after_slip = laws[joint, AFTER_SLIP]
+    divisor = params[joint, P_STRENGTH_DIVISOR]
+    dilates = laws[joint, STRENGTH_LAW] == STRENGTH_MOBILIZED
+    span = hi - lo
+    per_span = 1.0 / span
+    length = span / n_sub
+    per_length = n_sub * per_span
+    per_share = 1.0 / n_sub
+    u_lo, u_rise = a_lo - b_lo, (a_hi - b_hi) - (a_lo - b_lo)
+    slope = u_rise * per_span
+    m_lo, m_rise = 0.5 * (a_lo + b_lo), 0.5 * ((a_hi - a_lo) + (b_hi - b_lo))
+    wa, wb = blocks[a, W], blocks[b, W]
+    slip_rate = (
+        (blocks[b, VX] - blocks[a, VX]) * tx
+        + (blocks[b, VY] - blocks[a, VY]) * ty
+        - wb * (blocks[b, X] * nx + blocks[b, Y] * ny)
+        + wa * (blocks[a, X] * nx + blocks[a, Y] * ny)
+    )
+    fx_sum, fy_sum, moment = 0.0, 0.0, 0.0
+    for k in range(n_sub):
+        s = first + k
+        f = (k + 0.5) * per_share
+        u_mid = u_lo + f * u_rise
+        if dilates:
+            u_mid += subs[s, DILATION]
+        was_closed = subs[s, SN] > 0.0
+        closed, sn, centre, couple = _normal_share(subs, s, u_mid, slope, 0.5 * length, per_length, divisor)
+        f += centre * per_span  # the closed part's middle, where the share's forces act
+        along, middle = lo + f * span, m_lo + f * m_rise
+        dus = (slip_rate + (wb - wa) * middle) * dt
+        _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates)
+        subs[s, LENGTH] = length
+        subs[s, CX] = along * tx + middle * nx
+        subs[s, CY] = along * ty + middle * ny
+        carried = length * subs[s, CLOSED]
+        fn, fs = carried * subs[s, SN], carried * subs[s, TAU]
+        fx_sum += fn * nx - fs * tx
+        fy_sum += fn * ny - fs * ty
+        moment -= along * fn + middle * fs + couple
+    return (
+        fx_sum,
+        fy_sum,
+        moment - (blocks[b, X] * fy_sum - blocks[b, Y] * fx_sum),
+        moment - (blocks[a, X] * fy_sum - blocks[a, Y] * fx_sum),
+    )
+
+
+@numba.njit(cache=True, parallel=True)
+def contact_forces(
+    blocks,
+    world,
+    vertex_next,
+    contacts,
+    subs,
+    n_sub,
+    laws,
+    params,
+    dt,
+    threaded,
+    per_contact,
+    block_start,
+    block_contacts,
+):
     """Update every sub-contact's stresses and add the contact forces and moments to the blocks.
 
     Each contact's common line comes from `contact_frame`; a contact whose edges no longer face each
@@ -183,67 +260,49 @@ def contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, para
     couple `_normal_share` gives; its shear force acts there too. A point P = s t + m n of the line
     (s along it, m across) moves relative to A at v_B - v_A + w_B z x (P - c_B) - w_A z x (P - c_A), of
     which the part along t is (v_B - v_A).t + w_B (m - c_B.n) - w_A (m - c_A.n): the shear
-    displacement varies along the line with m alone. The shares' forces are summed per contact and
-    added to each block once, with their moments P x f = -s f_n - m f_s about the origin moved to the
-    block's centroid.
+    displacement varies along the line with m alone. The shares' forces are summed per contact
+    (`_contact`) and added to each block in contact order, with their moments P x f = -s f_n - m f_s
+    about the origin moved to the block's centroid.
+
+    `threaded`: on every thread of numba's pool, with the same result to the bit for any number of
+    threads: each contact's force and moments go into its own row of `per_contact` (float
+    (n_contacts, 4): fx, fy [N], moment on B, negated moment on A [N m]), then each block adds the rows
+    of its contacts in contact order (`block_contacts`: CSR by block from `block_start`, int64
+    (n_blocks + 1,); an entry c >= 0 is contact c with the block as B, -1 - c as A;
+    `kernels.block_contacts_of`), the order in which one thread adds them. Else one thread, the three
+    arrays unread (empty ones will do).
     """
     size = blocks[:, SIZE]
-    for c in range(contacts.shape[0]):
-        a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
-        ea, eb = contacts[c, EDGE_A], contacts[c, EDGE_B]
-        active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, size, a, b)
-        first = c * n_sub
-        if not active:
-            for s in range(first, first + n_sub):
-                _open(subs, s)
-                subs[s, LENGTH] = 0.0
-            continue
-        tx, ty = -ny, nx
-        joint = contacts[c, JOINT_TYPE]
-        after_slip = laws[joint, AFTER_SLIP]
-        divisor = params[joint, P_STRENGTH_DIVISOR]
-        dilates = laws[joint, STRENGTH_LAW] == STRENGTH_MOBILIZED
-        span = hi - lo
-        per_span = 1.0 / span
-        length = span / n_sub
-        per_length = n_sub * per_span
-        per_share = 1.0 / n_sub
-        u_lo, u_rise = a_lo - b_lo, (a_hi - b_hi) - (a_lo - b_lo)
-        slope = u_rise * per_span
-        m_lo, m_rise = 0.5 * (a_lo + b_lo), 0.5 * ((a_hi - a_lo) + (b_hi - b_lo))
-        wa, wb = blocks[a, W], blocks[b, W]
-        slip_rate = (
-            (blocks[b, VX] - blocks[a, VX]) * tx
-            + (blocks[b, VY] - blocks[a, VY]) * ty
-            - wb * (blocks[b, X] * nx + blocks[b, Y] * ny)
-            + wa * (blocks[a, X] * nx + blocks[a, Y] * ny)
-        )
-        fx_sum, fy_sum, moment = 0.0, 0.0, 0.0
-        for k in range(n_sub):
-            s = first + k
-            f = (k + 0.5) * per_share
-            u_mid = u_lo + f * u_rise
-            if dilates:
-                u_mid += subs[s, DILATION]
-            was_closed = subs[s, SN] > 0.0
-            closed, sn, centre, couple = _normal_share(
-                subs, s, u_mid, slope, 0.5 * length, per_length, divisor
+    if not threaded:
+        for c in range(contacts.shape[0]):
+            fx, fy, moment_b, moment_a = _contact(
+                c, blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, size
             )
-            f += centre * per_span  # the closed part's middle, where the share's forces act
-            along, middle = lo + f * span, m_lo + f * m_rise
-            dus = (slip_rate + (wb - wa) * middle) * dt
-            _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates)
-            subs[s, LENGTH] = length
-            subs[s, CX] = along * tx + middle * nx
-            subs[s, CY] = along * ty + middle * ny
-            carried = length * subs[s, CLOSED]
-            fn, fs = carried * subs[s, SN], carried * subs[s, TAU]
-            fx_sum += fn * nx - fs * tx
-            fy_sum += fn * ny - fs * ty
-            moment -= along * fn + middle * fs + couple
-        blocks[b, FX] += fx_sum
-        blocks[b, FY] += fy_sum
-        blocks[b, FM] += moment - (blocks[b, X] * fy_sum - blocks[b, Y] * fx_sum)
-        blocks[a, FX] -= fx_sum
-        blocks[a, FY] -= fy_sum
-        blocks[a, FM] -= moment - (blocks[a, X] * fy_sum - blocks[a, Y] * fx_sum)
+            a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
+            blocks[b, FX] += fx
+            blocks[b, FY] += fy
+            blocks[b, FM] += moment_b
+            blocks[a, FX] -= fx
+            blocks[a, FY] -= fy
+            blocks[a, FM] -= moment_a
+        return
+    for c in numba.prange(contacts.shape[0]):
+        fx, fy, moment_b, moment_a = _contact(
+            c, blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, size
+        )
+        per_contact[c, 0] = fx
+        per_contact[c, 1] = fy
+        per_contact[c, 2] = moment_b
+        per_contact[c, 3] = moment_a
+    for i in numba.prange(blocks.shape[0]):
+        for k in range(block_start[i], block_start[i + 1]):
+            entry = block_contacts[k]
+            if entry >= 0:
+                blocks[i, FX] += per_contact[entry, 0]
+                blocks[i, FY] += per_contact[entry, 1]
+                blocks[i, FM] += per_contact[entry, 2]
+            else:
+                c = -1 - entry
+                blocks[i, FX] -= per_contact[c, 0]
+                blocks[i, FY] -= per_contact[c, 1]
+                blocks[i, FM] -= per_contact[c, 3]

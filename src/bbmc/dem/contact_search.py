@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from bbmc.dem import contact_forces, joint_state
+from bbmc.dem import contact_forces, joint_state, kernels
 from bbmc.dem import layout as L
 from bbmc.dem.detection import candidate_pairs, facing_edges
 from bbmc.dem.model import Model
@@ -82,8 +82,15 @@ def search_contacts(model: Model, state: State) -> None:
         model.laws,
         model.params,
         0.0,
+        False,
+        state.per_contact,
+        state.block_start,
+        state.block_contacts,
     )
     state.contacts, state.subs = contacts, subs
+    if state.threads > 1:
+        state.per_contact = np.zeros((len(contacts), 4))
+        state.block_start, state.block_contacts = kernels.block_contacts_of(contacts, len(b))
     b[:, [L.XR, L.YR, L.THR]] = b[:, [L.X, L.Y, L.TH]]
     state.searches += 1
 

@@ -12,10 +12,13 @@ follows one step through these modules.
 import math
 
 import numba
+import numpy as np
 
 from bbmc.dem.contact_forces import contact_forces
 from bbmc.dem.joint_state import break_bridges, stresses_moved, update_joint_laws
 from bbmc.dem.layout import (
+    BLOCK_A,
+    BLOCK_B,
     DONE,
     DT,
     SEARCH_NEEDED,
@@ -27,6 +30,41 @@ from bbmc.dem.layout import (
 from bbmc.dem.motion import apply_loads, move_blocks, update_vertices
 from bbmc.dem.time_step import set_time_step
 from bbmc.dem.water import add_water_loads
+
+THREADED_FROM_CONTACTS = 2000  # fewer contacts: one thread (a parallel loop's start costs more than
+# the step of a small scene; the result is the same to the bit either way)
+_thread_limit = numba.config.NUMBA_NUM_THREADS
+
+
+def limit_threads(threads: int) -> None:
+    """Run every later run of this process on at most `threads` threads (a sweep's worker processes:
+    one each, the sweep itself running one per core)."""
+    global _thread_limit
+    _thread_limit = max(1, min(threads, numba.config.NUMBA_NUM_THREADS))
+
+
+def thread_count(requested: int | None) -> int:
+    """The threads a run uses: `requested` (the scene's `threads`; None: every core), at most the
+    process's limit (`limit_threads`) and numba's pool."""
+    return min(requested or numba.config.NUMBA_NUM_THREADS, _thread_limit)
+
+
+def set_threads(threads: int) -> None:
+    """Numba's parallel loops from now on run on `threads` threads (a runtime setting: one compiled
+    kernel serves every count)."""
+    numba.set_num_threads(threads)
+
+
+def block_contacts_of(contacts: np.ndarray, n_blocks: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each block's contacts in contact order, as CSR: (start, entries), int64 (n_blocks + 1,) and
+    (2 n_contacts,); block i's entries are entries[start[i]:start[i + 1]], c >= 0 for contact c with
+    the block as B, -1 - c with it as A (the order a threaded `contact_forces` adds them in)."""
+    index = np.arange(len(contacts), dtype=np.int64)
+    block = np.concatenate([contacts[:, BLOCK_A], contacts[:, BLOCK_B]])
+    order = np.lexsort((np.concatenate([index, index]), block))
+    start = np.zeros(n_blocks + 1, dtype=np.int64)
+    np.cumsum(np.bincount(block, minlength=n_blocks), out=start[1:])
+    return start, np.concatenate([-1 - index, index])[order]
 
 
 @numba.njit(cache=True)
@@ -64,6 +102,10 @@ def cycle(
     time_step_mode,
     safety,
     fixed_dt,
+    threaded,
+    per_contact,
+    block_start,
+    block_contacts,
 ):
     """Run up to n_steps cycles. Returns (cycles done, DONE | SEARCH_NEEDED | STEP_ABOVE_CRITICAL).
 
@@ -75,6 +117,9 @@ def cycle(
     scaling (fixed step, inertial masses rescaled after each law update). The laws are updated every
     `update_interval` cycles, and sooner once `stresses_moved` by `stress_change` (inf: never sooner).
     `changed_laws_only` and `moving`: see `update_joint_laws` and `move_blocks`.
+    `threaded`: contact forces, motion and vertices on every thread of numba's pool
+    (`contact_forces`, with its `per_contact`, `block_start` and `block_contacts`), else on
+    this one; the result is the same to the bit.
     """
     for done in range(n_steps):
         due = clock[SINCE_UPDATE] >= update_interval
@@ -115,11 +160,25 @@ def cycle(
         add_water_loads(
             blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight, dry_edges
         )
-        contact_forces(blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt)
+        contact_forces(
+            blocks,
+            world,
+            vertex_next,
+            contacts,
+            subs,
+            n_sub,
+            laws,
+            params,
+            dt,
+            threaded,
+            per_contact,
+            block_start,
+            block_contacts,
+        )
         if bridges:
             break_bridges(contacts, subs, n_sub, laws, params, dry_edges)
-        moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving)
-        update_vertices(blocks, vertex_start, local, world, moving)
+        moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving, threaded)
+        update_vertices(blocks, vertex_start, local, world, moving, threaded)
         clock[STEP] += 1.0
         clock[TIME] += dt
         clock[SINCE_UPDATE] += 1.0

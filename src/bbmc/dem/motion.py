@@ -39,15 +39,26 @@ from bbmc.dem.layout import (
 
 
 @numba.njit(cache=True)
-def update_vertices(blocks, vertex_start, local, world, moving):
-    """World coordinates of the vertices of every `moving` block from its centroid and rotation [m]."""
-    for b in range(blocks.shape[0]):
-        if not moving[b]:
-            continue
-        c, s = math.cos(blocks[b, TH]), math.sin(blocks[b, TH])
-        for v in range(vertex_start[b], vertex_start[b + 1]):
-            world[v, 0] = blocks[b, X] + c * local[v, 0] - s * local[v, 1]
-            world[v, 1] = blocks[b, Y] + s * local[v, 0] + c * local[v, 1]
+def _block_vertices(blocks, vertex_start, local, world, b):
+    """World coordinates of block b's vertices from its centroid and rotation [m]."""
+    c, s = math.cos(blocks[b, TH]), math.sin(blocks[b, TH])
+    for v in range(vertex_start[b], vertex_start[b + 1]):
+        world[v, 0] = blocks[b, X] + c * local[v, 0] - s * local[v, 1]
+        world[v, 1] = blocks[b, Y] + s * local[v, 0] + c * local[v, 1]
+
+
+@numba.njit(cache=True, parallel=True)
+def update_vertices(blocks, vertex_start, local, world, moving, threaded):
+    """World coordinates of the vertices of every `moving` block from its centroid and rotation [m];
+    `threaded`: on every thread of numba's pool (each block writes its own vertices)."""
+    if not threaded:
+        for b in range(blocks.shape[0]):
+            if moving[b]:
+                _block_vertices(blocks, vertex_start, local, world, b)
+        return
+    for b in numba.prange(blocks.shape[0]):
+        if moving[b]:
+            _block_vertices(blocks, vertex_start, local, world, b)
 
 
 @numba.njit(cache=True)
@@ -104,29 +115,40 @@ def _advance(force, velocity, mass, damping, dt):
 
 
 @numba.njit(cache=True)
-def move_blocks(blocks, dof, damping, dt, step, moving):
-    """New velocities and positions of the `moving` blocks; returns the largest movement since the last
-    contact search [m] (translation plus radius times rotation). Prescribed dofs are held until their
-    start step."""
+def _move_block(blocks, dof, damping, dt, step, i):
+    """Block i's new velocities and position; returns how far it has moved since the last contact
+    search [m] (translation plus radius times rotation). Prescribed dofs are held until their start
+    step."""
+    for d, v, f, m, vp, pv in (
+        (0, VX, FX, MX, VPX, PVX),
+        (1, VY, FY, MY, VPY, PVY),
+        (2, W, FM, MW, VPW, PW),
+    ):
+        blocks[i, pv] = blocks[i, v]
+        if dof[i, d] == PRESCRIBED:
+            blocks[i, v] = blocks[i, vp] if step >= blocks[i, VSTART] else 0.0
+        else:
+            blocks[i, v] = _advance(blocks[i, f], blocks[i, v], blocks[i, m], damping, dt)
+    blocks[i, X] += blocks[i, VX] * dt
+    blocks[i, Y] += blocks[i, VY] * dt
+    blocks[i, TH] += blocks[i, W] * dt
+    return math.hypot(blocks[i, X] - blocks[i, XR], blocks[i, Y] - blocks[i, YR]) + blocks[i, RADIUS] * abs(
+        blocks[i, TH] - blocks[i, THR]
+    )
+
+
+@numba.njit(cache=True, parallel=True)
+def move_blocks(blocks, dof, damping, dt, step, moving, threaded):
+    """New velocities and positions of the `moving` blocks (`_move_block`); returns the largest
+    movement since the last contact search [m]. `threaded`: on every thread of numba's pool (each
+    block moves alone; the largest movement is the same whatever their order)."""
     largest = 0.0
-    for i in range(blocks.shape[0]):
-        if not moving[i]:
-            continue
-        for d, v, f, m, vp, pv in (
-            (0, VX, FX, MX, VPX, PVX),
-            (1, VY, FY, MY, VPY, PVY),
-            (2, W, FM, MW, VPW, PW),
-        ):
-            blocks[i, pv] = blocks[i, v]
-            if dof[i, d] == PRESCRIBED:
-                blocks[i, v] = blocks[i, vp] if step >= blocks[i, VSTART] else 0.0
-            else:
-                blocks[i, v] = _advance(blocks[i, f], blocks[i, v], blocks[i, m], damping, dt)
-        blocks[i, X] += blocks[i, VX] * dt
-        blocks[i, Y] += blocks[i, VY] * dt
-        blocks[i, TH] += blocks[i, W] * dt
-        moved = math.hypot(blocks[i, X] - blocks[i, XR], blocks[i, Y] - blocks[i, YR]) + blocks[
-            i, RADIUS
-        ] * abs(blocks[i, TH] - blocks[i, THR])
-        largest = max(largest, moved)
+    if not threaded:
+        for i in range(blocks.shape[0]):
+            if moving[i]:
+                largest = max(largest, _move_block(blocks, dof, damping, dt, step, i))
+        return largest
+    for i in numba.prange(blocks.shape[0]):
+        if moving[i]:
+            largest = max(largest, _move_block(blocks, dof, damping, dt, step, i))
     return largest

@@ -335,6 +335,7 @@ class Solver(Section):
     # ... and sooner once a sub-contact's sigma_n or tau moved by this fraction since its last evaluation
     law_update_stress_change: Annotated[float, Field(gt=0)] | None = None
     stop: Stop | None = None
+    threads: Annotated[int, Field(ge=1)] | None = None  # numba threads of the cycle; None: every core
 
 
 BLOCK_QUANTITIES = ("ux", "uy", "vx", "vy", "rotation")

@@ -57,6 +57,12 @@ class State:
     immobile: np.ndarray  # blocks held still for the whole run (`Model.immobile`)
     moving: np.ndarray  # blocks whose motion the cycle computes (all, unless held ones are skipped)
     dry_edges: np.ndarray  # edges of intact rock that joint water does not reach (until it breaks)
+    threads: int = 1  # numba threads of the cycle (`kernels.thread_count`)
+    # each contact's force and moments, and each block's contacts (`kernels.block_contacts_of`): the
+    # threaded cycle's assembly, set at each contact search when threaded
+    per_contact: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    block_start: np.ndarray = field(default_factory=lambda: np.zeros(1, dtype=np.int64))
+    block_contacts: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     searches: int = 0
     dt_range: list[float] = field(default_factory=lambda: [math.inf, 0.0])
     largest_overlap: float = 0.0
@@ -85,7 +91,9 @@ def initial_state(model: Model) -> State:
     world = np.empty_like(model.local)
     blocks = model.blocks.copy()
     immobile = model.immobile
-    motion.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
+    motion.update_vertices(
+        blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool), False
+    )
     return State(
         clock=np.zeros(L.CLOCK_COLUMNS),
         blocks=blocks,
@@ -97,6 +105,7 @@ def initial_state(model: Model) -> State:
         immobile=immobile,
         moving=~immobile if model.economy.skip_held_blocks else np.ones(len(blocks), dtype=bool),
         dry_edges=np.zeros(len(model.local), dtype=bool),
+        threads=kernels.thread_count(model.scene.solver.threads),
     )
 
 
@@ -263,6 +272,9 @@ def _cycles(model: Model, state: State, n_steps: int) -> int:
     done or a call returns another status; returns that status. A cut between calls changes nothing:
     the cycle's whole state is in its arrays."""
     solver, ts = model.scene.solver, model.scene.solver.time_step
+    threaded = state.threads > 1 and len(state.contacts) >= kernels.THREADED_FROM_CONTACTS
+    if threaded:
+        kernels.set_threads(state.threads)
     left = n_steps
     while True:
         started = time.perf_counter()
@@ -300,6 +312,10 @@ def _cycles(model: Model, state: State, n_steps: int) -> int:
             TIME_STEP_MODES[ts.mode],
             ts.safety_factor,
             ts.step_s or math.inf,
+            threaded,
+            state.per_contact,
+            state.block_start,
+            state.block_contacts,
         )
         state.cycle_pace.timed(done, time.perf_counter() - started)
         left -= done
