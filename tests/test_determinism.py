@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from stage_runs import config_copy, run_stage
@@ -39,3 +40,39 @@ def test_same_config_gives_bit_identical_csvs(tmp_path, stage):
     assert tables == sorted(p.relative_to(second) for p in second.rglob("*.csv"))
     for table in tables:
         assert (first / table).read_bytes() == (second / table).read_bytes(), f"{stage}/{table} differs"
+
+
+def _run_on(scene: dict, threads: int):
+    """The scene run to its end on `threads` threads (the threaded cycle even on a small scene)."""
+    from bbmc.dem.model import build_model
+    from bbmc.dem.scene import Scene
+    from bbmc.dem.solver import simulate
+
+    scene = {**scene, "solver": {**scene["solver"], "threads": threads}}
+    return simulate(build_model(Scene.model_validate(scene, strict=False), Path(f"<{scene['name']}>"))).state
+
+
+@pytest.mark.parametrize("paper_scene", ["shear", "slope"])
+def test_one_and_two_threads_give_bit_identical_results(monkeypatch, paper_scene):
+    """Each contact's force is computed alone and each block adds its contacts' forces in contact order,
+    so the paper's shear box (its first Table 3 test) and B-B slope end with the same block positions
+    and contact stresses to the bit on one thread and on two (the threaded path taken on these small
+    scenes too)."""
+    from bbmc.bench.paper_scenes import ShearScene, SlopeScene
+    from bbmc.dem import kernels
+    from bbmc.dem import layout as L
+
+    monkeypatch.setattr(kernels, "THREADED_FROM_CONTACTS", 0)
+    configs = Path(__file__).resolve().parents[1] / "configs"
+    if paper_scene == "shear":
+        bench = ShearScene(configs / "shear.yaml")
+        scene = bench._scene(bench.defaults(), *bench.loads[0])
+    else:
+        bench = SlopeScene(configs / "slope.yaml", "barton_bandis")
+        scene = bench._scene(bench.defaults())
+    one, two = _run_on(scene, 1), _run_on(scene, 2)
+    assert two.threads == min(2, kernels.thread_count(None))
+    assert one.step == two.step > 0
+    assert np.array_equal(one.blocks, two.blocks)
+    assert np.array_equal(one.subs[:, [L.SN, L.TAU]], two.subs[:, [L.SN, L.TAU]])
+    assert np.array_equal(one.subs, two.subs, equal_nan=True)

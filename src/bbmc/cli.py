@@ -22,6 +22,7 @@ import click
 
 from bbmc import __version__
 from bbmc.config import ConfigError, load_config
+from bbmc.dem.scene import Scene
 from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
 from bbmc.plausibility import ImplausibleValue
@@ -292,10 +293,27 @@ for _stage, _help in STAGE_HELP.items():
     _register(_stage, _help)
 
 
+_THREADS = click.option(
+    "--threads",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Threads of the engine [default: the scene's solver.threads, else every core]; "
+    "the results are the same for any number.",
+)
+
+
+def _with_threads(scene: Scene, threads: int | None) -> Scene:
+    """The scene with solver.threads set to `threads` (the --threads option), or as it is (None)."""
+    if threads is None:
+        return scene
+    return scene.model_copy(update={"solver": scene.solver.model_copy(update={"threads": threads})})
+
+
 @main.command(name="run")
 @_file_options("run", "scene")
 @click.option("--vtk", is_flag=True, help="Also write vtk/: every record for ParaView (VTU + PVD).")
-def run_command(config_path: Path, results: str, strict: bool, vtk: bool) -> None:
+@_THREADS
+def run_command(config_path: Path, results: str, strict: bool, vtk: bool, threads: int | None) -> None:
     """Run a block scene (docs/scene-format.md) on the DEM engine.
 
     \b
@@ -308,7 +326,7 @@ def run_command(config_path: Path, results: str, strict: bool, vtk: bool) -> Non
     and writes nothing.
     """
     with _reported(run_stage.NAME, strict):
-        scene = load_config(config_path, run_stage.Config)
+        scene = _with_threads(load_config(config_path, run_stage.Config), threads)
         progress = ProgressBar(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
             with _scene_at_fault(config_path):
@@ -324,7 +342,8 @@ def run_command(config_path: Path, results: str, strict: bool, vtk: bool) -> Non
 
 @main.command(name="fos")
 @_file_options("fos", "scene")
-def fos_command(config_path: Path, results: str, strict: bool) -> None:
+@_THREADS
+def fos_command(config_path: Path, results: str, strict: bool, threads: int | None) -> None:
     """The factor of safety of a block scene by shear-strength reduction (its `fos:` section).
 
     \b
@@ -335,7 +354,7 @@ def fos_command(config_path: Path, results: str, strict: bool) -> None:
     provenance.json. Each trial is reported on stderr once the search has lasted 2 s.
     """
     with _reported(fos_stage.NAME, strict):
-        scene = load_config(config_path, fos_stage.Config)
+        scene = _with_threads(load_config(config_path, fos_stage.Config), threads)
         started = time.perf_counter()
 
         def progress(line: str) -> None:

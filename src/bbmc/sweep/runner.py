@@ -9,7 +9,8 @@ finished batch on disk.
   `store/batch_<first sample>.csv` (to a temporary name, then renamed: never half a file). A run finds
   the batches already there and runs only the others: interrupting a study (Ctrl-C, a killed
   scheduler) loses at most the batches in flight.
-* Locally: a pool of `workers` processes (default: every core). On a cluster (`scheduler` given):
+* Locally: a pool of `workers` processes (default: every core), each running its scenes on one
+  thread (`bbmc.dem.kernels.limit_threads`; so do a cluster's workers). On a cluster (`scheduler` given):
   `distributed.Client(scheduler)`; a worker lost mid-task has its task rerun elsewhere by the
   scheduler, and each batch is written once, by this process, when its result arrives.
 * Ctrl-C (or SIGINT to this process alone) stops the study at once with `StudyInterrupted`, which says
@@ -36,6 +37,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from bbmc.dem.kernels import limit_threads
 from bbmc.dem.pace import stopped_when
 
 Model = Callable[[pd.DataFrame], pd.DataFrame]
@@ -88,9 +90,11 @@ class Progress:
         self.say(f"{self.done}/{self.total} samples, {elapsed:.0f} s, about {left:.0f} s left")
 
 
-def _ignore_interrupt() -> None:
-    """Each local worker's start: SIGINT ignored (the parent ends the workers)."""
+def _start_worker() -> None:
+    """Each local worker's start: SIGINT ignored (the parent ends the workers), and one thread for its
+    runs (the sweep runs one process per core)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    limit_threads(1)
 
 
 class _KeptProcesses:
@@ -120,7 +124,7 @@ class _KeptProcesses:
 
 def _local(model: Model, pending: list[pd.DataFrame], workers: int) -> Iterator[tuple[int, pd.DataFrame]]:
     processes = _KeptProcesses()
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=processes, initializer=_ignore_interrupt)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=processes, initializer=_start_worker)
     try:
         futures: dict[Future, int] = {pool.submit(evaluate, model, b): int(b.index[0]) for b in pending}
         while futures:
@@ -139,6 +143,7 @@ def _evaluate_on_worker(model: Model, inputs: pd.DataFrame) -> pd.DataFrame:
     (its client interrupted: the worker marks the task cancelled, or forgets it)."""
     from distributed import get_worker
 
+    limit_threads(1)  # the cluster's workers are its processes: each runs on one thread
     worker = get_worker()
     key = worker.get_current_task()
 
