@@ -139,7 +139,9 @@ def test_fixed_step_that_becomes_unstable_stops_the_run_naming_the_step(tmp_path
     model = load_scene(write_scene(tmp_path, _stiffening_scene(1.0)))
     state = initial_state(model)
     search_contacts(model, state)
-    joint_state.update_joint_laws(state.contacts, state.subs, state.n_sub, model.laws, model.params, True)
+    joint_state.update_joint_laws(
+        state.contacts, state.subs, state.law_state, state.n_sub, model.laws, model.params, True
+    )
     start_critical = _critical(model, state)
     result = _run(write_scene(tmp_path, _stiffening_scene(0.5 * start_critical)), tmp_path / "out")
     assert result.exit_code == 3, result.output

@@ -3,9 +3,9 @@
 Made for the cost of corner contacts where none form: the scaling slope of `configs/slope.yaml`
 (`bbmc.bench.scaling`) and the shear box of `configs/shear.yaml` (`bbmc.bench.paper_scenes`), each
 timed in fresh processes that import bbmc from this source tree or from a checkout of the commit
-(a temporary git worktree), alternately, best of `repeats`. The code each process runs uses only what
-both trees have (`scaling.measure_here`, `paper_scenes.ShearScene`), so the same measurement runs on
-both engines.
+(a temporary git worktree), alternately, the median of `repeats`, each on one thread (numba's pool
+capped by NUMBA_NUM_THREADS=1: the cost per core). The code each process runs uses only what both trees
+have (`scaling.measure_here`, `paper_scenes.ShearScene`), so the same measurement runs on both engines.
 """
 
 from __future__ import annotations
@@ -42,6 +42,12 @@ def _shear_code(shear_config: str) -> str:
     )
 
 
+def _median_run(readings: list[dict]) -> dict:
+    """The reading of median seconds per step (the lower middle one of an even count)."""
+    ordered = sorted(readings, key=lambda r: r["seconds_per_step"])
+    return ordered[(len(ordered) - 1) // 2]
+
+
 def _worktree(commit: str, into: Path) -> Path:
     """A checkout of `commit` of the repository this source tree is in; its src/ folder."""
     subprocess.run(
@@ -63,9 +69,10 @@ def engine_cost_table(
     progress: Callable[[str], None] = lambda _: None,
     timeout_s: float = 1800.0,
 ) -> pd.DataFrame:
-    """One row per scene: seconds per step on this engine and on `commit`'s, best of `repeats`
-    alternating fresh processes, and their ratio (this over that). If the commit cannot be checked
-    out (no git, a shallow clone), one row says why."""
+    """One row per scene: seconds per step on this engine and on `commit`'s, the median of `repeats`
+    alternating fresh processes on one thread each, their ratio (this over that), and the range of the
+    ratios of the runs paired in order. If the commit cannot be checked out (no git, a shallow clone),
+    one row says why."""
     root = SOURCE.parent
     slope_in_repo = Path(slope_config).resolve().relative_to(root)
     shear_in_repo = Path(shear_config).resolve().relative_to(root)
@@ -91,13 +98,16 @@ def engine_cost_table(
             rows = []
             codes = {"now": dict(cases(SOURCE)), "then": dict(cases(then))}
             for scene in codes["now"]:
-                best: dict[str, dict] = {}
+                runs: dict[str, list[dict]] = {"now": [], "then": []}
                 for k in range(repeats):
                     for label, source in (("now", SOURCE), ("then", then)):
                         progress(f"engine cost: {scene}, {label}, run {k + 1} of {repeats}")
-                        reading = answer_of_fresh_process(codes[label][scene], source, timeout_s)
-                        if label not in best or reading["seconds_per_step"] < best[label]["seconds_per_step"]:
-                            best[label] = reading
+                        runs[label].append(answer_of_fresh_process(codes[label][scene], source, timeout_s, 1))
+                best = {label: _median_run(readings) for label, readings in runs.items()}
+                paired = [
+                    now["seconds_per_step"] / then["seconds_per_step"]
+                    for now, then in zip(runs["now"], runs["then"], strict=True)
+                ]
                 rows.append(
                     {
                         "scene": scene,
@@ -108,6 +118,9 @@ def engine_cost_table(
                         "seconds_per_step_now": best["now"]["seconds_per_step"],
                         "seconds_per_step_then": best["then"]["seconds_per_step"],
                         "now_over_then": best["now"]["seconds_per_step"] / best["then"]["seconds_per_step"],
+                        "now_over_then_paired_min": min(paired),
+                        "now_over_then_paired_max": max(paired),
+                        "runs": repeats,
                         "sub_contact_updates_per_s_now": best["now"]["sub_contact_updates_per_s"],
                         "sub_contact_updates_per_s_then": best["then"]["sub_contact_updates_per_s"],
                         "skipped": "",

@@ -131,13 +131,13 @@ def update_cost(sub_contacts: int, repeats: int) -> pd.DataFrame:
     for j, name in enumerate(model.law_names):
         contacts = np.zeros((sub_contacts // n_sub, L.CONTACT_COLUMNS), dtype=np.int64)
         contacts[:, L.JOINT_TYPE] = j
-        work = subs.copy()
-        joint_state.update_joint_laws(contacts, work, n_sub, model.laws, model.params, False)  # compiled
+        work, law_state = subs.copy(), np.zeros((sub_contacts, L.LAW_STATE_COLUMNS))
+        joint_state.update_joint_laws(contacts, work, law_state, n_sub, model.laws, model.params, False)
         best = np.inf
         for _ in range(repeats):
             work[:] = subs
             start = time.perf_counter()
-            joint_state.update_joint_laws(contacts, work, n_sub, model.laws, model.params, False)
+            joint_state.update_joint_laws(contacts, work, law_state, n_sub, model.laws, model.params, False)
             best = min(best, time.perf_counter() - start)
         rows.append({"part": "update", "law": name, "ns_per_sub_contact_update": best / sub_contacts * 1e9})
     table = pd.DataFrame(rows)

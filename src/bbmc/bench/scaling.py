@@ -27,6 +27,7 @@ import resource
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -120,13 +121,17 @@ def _peak_rss_bytes() -> float:
     return float(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * MAXRSS_BYTES)
 
 
-def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float, slope_config: str) -> dict:
-    """`measure`, in this process (its peak RSS is this process's peak so far).
+def measure_here(
+    blocks: int, steps: int, repeats: int, min_timed_s: float, slope_config: str, threads: int | None = None
+) -> dict:
+    """`measure`, in this process (its peak RSS is this process's peak so far), on `threads` threads
+    (None: the scene's default, every core).
 
     The cycles are repeated at least `repeats` times, and more (up to 100) while less than
     `min_timed_s` of cycles has been timed, each repeat from a fresh `prepare`; the best is kept."""
     _run_kernels(slope_config)  # load every compiled kernel first: the first timed search would include it
     entry = scaled_slope(blocks, slope_config)  # the block count's calibration is not timed
+    entry["solver"]["threads"] = threads
     start = time.perf_counter()
     model = build_model(Scene.model_validate(entry, strict=False), Path(f"<slope of about {blocks} blocks>"))
     build_s = time.perf_counter() - start
@@ -143,6 +148,7 @@ def measure_here(blocks: int, steps: int, repeats: int, min_timed_s: float, slop
     return {
         "blocks_asked": blocks,
         "blocks": len(model.block_names),
+        "threads": state.threads,
         "free_blocks": int(np.sum(~np.all(model.dof == L.PRESCRIBED, axis=1))),
         "spacing_scale": spacing_scale(blocks, slope_config),
         "contacts": len(state.contacts),
@@ -175,10 +181,14 @@ def baseline_here(slope_config: str) -> dict:
     return {"baseline_rss_MB": _peak_rss_bytes() / MB}
 
 
-def answer_of_fresh_process(code: str, source: Path, timeout_s: float | None) -> dict:
-    """Run `code` in a fresh interpreter that imports bbmc from `source` (a src/ folder) first; its
-    JSON answer (the last line it prints)."""
+def answer_of_fresh_process(
+    code: str, source: Path, timeout_s: float | None, threads: int | None = None
+) -> dict:
+    """Run `code` in a fresh interpreter that imports bbmc from `source` (a src/ folder) first, with at
+    most `threads` numba threads (None: every core); its JSON answer (the last line it prints)."""
     env = dict(os.environ)
+    if threads is not None:
+        env["NUMBA_NUM_THREADS"] = str(threads)
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(source), env.get("PYTHONPATH")) if p)
     done = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout_s, env=env, check=False
@@ -207,12 +217,15 @@ def measure(
     slope_config: str,
     min_timed_s: float = 0.5,
     timeout_s: float | None = 3600.0,
+    threads: int = 1,
 ) -> dict:
-    """Generate, build and run a scaled slope of about `blocks` blocks in a fresh process: blocks,
-    contacts, sub-contacts, times (generation and build, contact search at step 0, `steps` cycles best
-    of `repeats`), contact searches during the cycles, and the process's peak RSS [MB = 1e6 bytes]."""
+    """Generate, build and run a scaled slope of about `blocks` blocks in a fresh process on `threads`
+    threads: blocks, contacts, sub-contacts, times (generation and build, contact search at step 0,
+    `steps` cycles best of `repeats`), contact searches during the cycles, and the process's peak RSS
+    [MB = 1e6 bytes]."""
     return _in_subprocess(
-        f"measure_here({int(blocks)}, {int(steps)}, {int(repeats)}, {min_timed_s!r}, {str(slope_config)!r})",
+        f"measure_here({int(blocks)}, {int(steps)}, {int(repeats)}, {min_timed_s!r}, {str(slope_config)!r}, "
+        f"{int(threads)})",
         timeout_s,
     )
 
@@ -249,17 +262,19 @@ def scaling_table(
     slope_config: str,
     min_timed_s: float = 0.5,
     progress=None,
+    threads: Sequence[int] = (1,),
 ) -> pd.DataFrame:
-    """One row per size (ascending), each measured in its own process (`measure`), the same `steps`
-    cycles from the same state at rest for every size.
+    """One row per size (ascending) and thread count (`threads`, the first the reference), each measured
+    in its own process (`measure`), the same `steps` cycles from the same state at rest for every size.
 
     A size whose estimated peak (`estimated_peak_MB`) is above `memory_limit_bytes`, or whose process
     fails, gets a row with the reason in `skipped` and no measurements. Derived columns, over the
     measured rows: growth_exponent_vs_previous = log(t / t_prev) / log(N / N_prev) of the seconds
     per step (1 is linear), cost_over_NlogN_relative = (t / (N ln N)) / (t_0 / (N_0 ln N_0)) against
     the smallest size, within_NlogN = that ratio <= NLOGN_SLACK, and memory_growth_exponent, the same
-    exponent for the peak RSS above the baseline (NaN where either is under MEMORY_RESOLUTION_MB).
-    `progress(message)` is called before each process."""
+    exponent for the peak RSS above the baseline (NaN where either is under MEMORY_RESOLUTION_MB), each
+    among the rows of one thread count; speedup_vs_first_threads, the seconds per step on the first
+    thread count over this row's, at the same size. `progress(message)` is called before each process."""
     say = progress or (lambda message: None)
     slope_config = str(Path(slope_config).resolve())  # the processes may run elsewhere
     _run_kernels(slope_config)  # compiles and caches the kernels if need be, here: the processes load them
@@ -268,25 +283,36 @@ def scaling_table(
     rows, measured = [], []
     for blocks in sorted(block_counts):
         estimate = estimated_peak_MB(measured, blocks, baseline_MB)
-        row = {"blocks_asked": blocks, "estimated_peak_rss_MB": estimate, "skipped": ""}
-        if estimate * MB > memory_limit_bytes:
-            row["skipped"] = (
-                f"estimated peak {estimate:.0f} MB above the limit {memory_limit_bytes / MB:.0f} MB"
-            )
-        else:
-            say(f"scaling: about {blocks} blocks, {steps} steps")
-            try:
-                result = measure(blocks, steps, repeats, slope_config, min_timed_s)
-            except (RuntimeError, subprocess.TimeoutExpired) as error:
-                row["skipped"] = str(error).splitlines()[0]
+        for count in threads:
+            row = {
+                "blocks_asked": blocks,
+                "threads_asked": count,
+                "estimated_peak_rss_MB": estimate,
+                "skipped": "",
+            }
+            if estimate * MB > memory_limit_bytes:
+                row["skipped"] = (
+                    f"estimated peak {estimate:.0f} MB above the limit {memory_limit_bytes / MB:.0f} MB"
+                )
             else:
-                row.update(result)
-                measured.append(result)
-        rows.append(row)
+                say(f"scaling: about {blocks} blocks, {steps} steps, {count} thread(s)")
+                try:
+                    result = measure(blocks, steps, repeats, slope_config, min_timed_s, threads=count)
+                except (RuntimeError, subprocess.TimeoutExpired) as error:
+                    row["skipped"] = str(error).splitlines()[0]
+                else:
+                    row.update(result)
+                    if count == threads[0]:
+                        measured.append(result)
+            rows.append(row)
     table = pd.DataFrame(rows)
     table["baseline_rss_MB"] = baseline_MB
     table["peak_rss_above_baseline_MB"] = table.get("peak_rss_MB", np.nan) - baseline_MB
-    return _derived(table)
+    parts = [_derived(part.copy()) for _, part in table.groupby("threads_asked", sort=False)]
+    table = pd.concat(parts).sort_index()
+    first = table[table["threads_asked"] == threads[0]].set_index("blocks_asked")["seconds_per_step"]
+    table["speedup_vs_first_threads"] = table["blocks_asked"].map(first) / table["seconds_per_step"]
+    return table
 
 
 def _measured(table: pd.DataFrame) -> pd.Series:
@@ -334,20 +360,24 @@ def scaling_figure(table: pd.DataFrame, dpi: int = 120) -> Figure:
     baseline: below, the peak is noise)."""
     from matplotlib.figure import Figure  # here: the measuring processes need no matplotlib
 
-    done = table[_measured(table)]
-    if done.empty:
+    measured = table[_measured(table)]
+    if measured.empty:
         raise ValueError("no size of the scaling table was measured: nothing to plot")
+    groups = dict(tuple(measured.groupby("threads", sort=True)))
+    done = next(iter(groups.values()))  # the fewest threads: the reference
     n = done["blocks"].to_numpy(dtype=float)
     fig = Figure(figsize=(11, 4.5), dpi=dpi, layout="constrained")
     time_ax, memory_ax = fig.subplots(1, 2)
     seconds = done["seconds_per_step"].to_numpy(dtype=float)
-    time_ax.plot(n, seconds * 1e3, "o-", label="cycle (per step)")
+    for count, rows in groups.items():
+        label = f"cycle (per step), {count} thread{'s' if count > 1 else ''}"
+        time_ax.plot(rows["blocks"], rows["seconds_per_step"] * 1e3, "o-", label=label)
     time_ax.plot(
         n, done["initial_search_s"].to_numpy(dtype=float) * 1e3, "s-", label="contact search at step 0"
     )
     _references(time_ax, n, n[0], seconds[0] * 1e3, "smallest size")
     time_ax.set(xscale="log", yscale="log", xlabel="blocks [1]", ylabel="wall-clock time [ms]")
-    time_ax.set_title("Time per step (one core)")
+    time_ax.set_title("Time per step")
     above = done["peak_rss_above_baseline_MB"].to_numpy(dtype=float)
     memory_ax.plot(n, done["peak_rss_MB"].to_numpy(dtype=float), "o-", label="peak RSS")
     resolved = np.where(above >= MEMORY_RESOLUTION_MB, above, np.nan)  # below: noise, or negative

@@ -128,7 +128,7 @@ def _normal_share(subs, s, u_mid, slope, half, inv_length, divisor):
 
 
 @numba.njit(cache=True, inline="always")
-def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates):
+def _shear_share(subs, law_state, s, closed, sn, dus, was_closed, after_slip, divisor, dilates):
     """The shear of one sub-contact's share (module docstring), in place, after its normal stress
     (`_normal_share`: closed fraction `closed`, mean sigma_n `sn` over the closed part); its shear and
     tensile strengths divided by `divisor` (strength reduction; 1 otherwise).
@@ -146,7 +146,7 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
         subs[s, PATH] += abs(dus)
         if dilates:
             away = abs(subs[s, US] + dus) - abs(subs[s, US])
-            subs[s, DILATION] = max(subs[s, DILATION] + subs[s, TAN_DILATION] * away, 0.0)
+            subs[s, DILATION] = max(subs[s, DILATION] + law_state[s, TAN_DILATION] * away, 0.0)
     subs[s, US] += dus
     if closed <= 0.0:
         _open(subs, s)
@@ -154,7 +154,7 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
             subs[s, TEN] = 0.0
             subs[s, COH] = 0.0
             subs[s, SLIPPED] = FAILED_IN_TENSION
-            subs[s, LAW_SN] = math.nan
+            law_state[s, LAW_SN] = math.nan
         return
     tau = subs[s, TAU] + subs[s, KS] * dus
     strength = max(subs[s, COH] + sn * subs[s, TANPHI], 0.0) / divisor
@@ -162,7 +162,7 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
         tau = math.copysign(strength, tau)
         if subs[s, SLIPPED] == 0.0:
             subs[s, SLIPPED] = SLIPPED_IN_SHEAR
-            subs[s, LAW_SN] = math.nan
+            law_state[s, LAW_SN] = math.nan
             subs[s, TEN] = 0.0
             if after_slip == AFTER_SLIP_ZERO:
                 subs[s, COH] = 0.0
@@ -172,7 +172,7 @@ def _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dila
 
 
 @numba.njit(cache=True, inline="always")
-def _contact(c, blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, size):
+def _contact(c, blocks, world, vertex_next, contacts, subs, law_state, n_sub, laws, params, dt, size):
     """Contact c's shares updated in place (`contact_forces`); returns its force on block B and the
     moments of that force about B's and about A's centroid: (fx [N], fy [N], moment on B [N m],
     moment of the opposite force on A, negated [N m]), zeros for an inactive contact."""
@@ -217,7 +217,7 @@ def _contact(c, blocks, world, vertex_next, contacts, subs, n_sub, laws, params,
         f += centre * per_span  # the closed part's middle, where the share's forces act
         along, middle = lo + f * span, m_lo + f * m_rise
         dus = (slip_rate + (wb - wa) * middle) * dt
-        _shear_share(subs, s, closed, sn, dus, was_closed, after_slip, divisor, dilates)
+        _shear_share(subs, law_state, s, closed, sn, dus, was_closed, after_slip, divisor, dilates)
         subs[s, LENGTH] = length
         subs[s, CX] = along * tx + middle * nx
         subs[s, CY] = along * ty + middle * ny
@@ -241,6 +241,7 @@ def contact_forces(
     vertex_next,
     contacts,
     subs,
+    law_state,
     n_sub,
     laws,
     params,
@@ -250,7 +251,9 @@ def contact_forces(
     block_start,
     block_contacts,
 ):
-    """Update every sub-contact's stresses and add the contact forces and moments to the blocks.
+    """Update every sub-contact's stresses and add the contact forces and moments to the blocks
+    (`law_state`: the sub-contacts' law state, read by the mobilized law's dilation, written where a
+    share slips or breaks).
 
     Each contact's common line comes from `contact_frame`; a contact whose edges no longer face each
     other or no longer overlap in projection is inactive: zero length, zero stresses. Its overlap is cut
@@ -276,7 +279,7 @@ def contact_forces(
     if not threaded:
         for c in range(contacts.shape[0]):
             fx, fy, moment_b, moment_a = _contact(
-                c, blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, size
+                c, blocks, world, vertex_next, contacts, subs, law_state, n_sub, laws, params, dt, size
             )
             a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
             blocks[b, FX] += fx
@@ -288,7 +291,7 @@ def contact_forces(
         return
     for c in numba.prange(contacts.shape[0]):
         fx, fy, moment_b, moment_a = _contact(
-            c, blocks, world, vertex_next, contacts, subs, n_sub, laws, params, dt, size
+            c, blocks, world, vertex_next, contacts, subs, law_state, n_sub, laws, params, dt, size
         )
         per_contact[c, 0] = fx
         per_contact[c, 1] = fy

@@ -60,17 +60,30 @@ def search_contacts(model: Model, state: State) -> None:
     ).reshape(-1, L.CONTACT_COLUMNS)
     kept_rows = (kept[:, None] * n_sub + np.arange(n_sub)).ravel()
     subs = np.concatenate([state.subs[kept_rows], np.zeros((len(fresh) * n_sub, L.SUB_COLUMNS))])
+    law_state = np.concatenate(
+        [state.law_state[kept_rows], np.zeros((len(fresh) * n_sub, L.LAW_STATE_COLUMNS))]
+    )
     first_new = len(kept)
     joint_state.initial_joint_state(
-        contacts, subs, n_sub, model.laws, model.params, first_new, state.step == 0
+        contacts, subs, law_state, n_sub, model.laws, model.params, first_new, state.step == 0
     )
     if state.step == 0:  # intact rock (a type that breaks into a joint) keeps joint water out
         intact = model.laws[contacts[first_new:, L.JOINT_TYPE], L.BREAKS_INTO] >= 0
         state.dry_edges[contacts[first_new:][intact][:, [L.EDGE_A, L.EDGE_B]].ravel()] = True
-    new_contacts, new_subs = contacts[first_new:], subs[first_new * n_sub :]
+    new_contacts, new_subs, new_law_state = (
+        contacts[first_new:],
+        subs[first_new * n_sub :],
+        law_state[first_new * n_sub :],
+    )
     if model.variable_laws:
         joint_state.update_joint_laws(
-            new_contacts, new_subs, n_sub, model.laws, model.params, model.economy.changed_laws_only
+            new_contacts,
+            new_subs,
+            new_law_state,
+            n_sub,
+            model.laws,
+            model.params,
+            model.economy.changed_laws_only,
         )
     contact_forces.contact_forces(
         b,
@@ -78,6 +91,7 @@ def search_contacts(model: Model, state: State) -> None:
         model.vertex_next,
         new_contacts,
         new_subs,
+        new_law_state,
         n_sub,
         model.laws,
         model.params,
@@ -87,7 +101,7 @@ def search_contacts(model: Model, state: State) -> None:
         state.block_start,
         state.block_contacts,
     )
-    state.contacts, state.subs = contacts, subs
+    state.contacts, state.subs, state.law_state = contacts, subs, law_state
     if state.threads > 1:
         state.per_contact = np.zeros((len(contacts), 4))
         state.block_start, state.block_contacts = kernels.block_contacts_of(contacts, len(b))

@@ -112,7 +112,7 @@ def _shear_stiffness(law, sigma, tau, p):
 
 
 @numba.njit(cache=True)
-def _mobilize(subs, s, floored, p):
+def _mobilize(subs, law_state, s, floored, p):
     """The mobilized Barton-Bandis law at the sub-contact's sigma_n and shear path (Barton 1982): the
     secant tan(phi_mob) (c = 0: the strength sigma_n tan(phi_mob) is exact at this sigma_n and path) and
     the dilation angle's tangent, both at max(sigma_n, stress floor) (an open joint carries no strength
@@ -121,11 +121,13 @@ def _mobilize(subs, s, floored, p):
     subs[s, TANPHI] = math.tan(mobilized_friction_angle(path, floored, jrc, jcs, phi_r, peak, p[P_PHI_MAX]))
     subs[s, COH] = 0.0
     damage = p[P_DAMAGE] if p[P_DAMAGE] > 0.0 else damage_coefficient(floored, jrc, jcs)
-    subs[s, TAN_DILATION] = math.tan(mobilized_dilation_angle(path, floored, jrc, jcs, phi_r, peak, damage))
+    law_state[s, TAN_DILATION] = math.tan(
+        mobilized_dilation_angle(path, floored, jrc, jcs, phi_r, peak, damage)
+    )
 
 
 @numba.njit(cache=True)
-def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
+def update_joint_laws(contacts, subs, law_state, n_sub, laws, params, changed_only):
     """Re-evaluate K_n, K_s, c and phi of every sub-contact of a stress-dependent joint type.
 
     `changed_only`: skip a sub-contact whose sigma_n, tau and (mobilized law) shear path are those of
@@ -146,14 +148,14 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
             sigma = subs[s, SN]
             if (
                 changed_only
-                and sigma == subs[s, LAW_SN]
-                and subs[s, TAU] == subs[s, LAW_TAU]
-                and (subs[s, PATH] == subs[s, LAW_PATH] or laws[j, STRENGTH_LAW] != STRENGTH_MOBILIZED)
+                and sigma == law_state[s, LAW_SN]
+                and subs[s, TAU] == law_state[s, LAW_TAU]
+                and (subs[s, PATH] == law_state[s, LAW_PATH] or laws[j, STRENGTH_LAW] != STRENGTH_MOBILIZED)
             ):
                 continue
-            subs[s, LAW_SN] = sigma
-            subs[s, LAW_TAU] = subs[s, TAU]
-            subs[s, LAW_PATH] = subs[s, PATH]
+            law_state[s, LAW_SN] = sigma
+            law_state[s, LAW_TAU] = subs[s, TAU]
+            law_state[s, LAW_PATH] = subs[s, PATH]
             p = params[j]  # after the skip: an unchanged share costs no row view
             floored = max(sigma, p[P_STRESS_FLOOR])
             if laws[j, NORMAL_LAW] == NORMAL_EQ8:
@@ -163,7 +165,7 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
             if laws[j, SHEAR_LAW] != SHEAR_CONSTANT:
                 subs[s, KS] = _shear_stiffness(laws[j, SHEAR_LAW], floored, abs(subs[s, TAU]), p)
             if laws[j, STRENGTH_LAW] == STRENGTH_MOBILIZED:
-                _mobilize(subs, s, floored, p)
+                _mobilize(subs, law_state, s, floored, p)
             elif laws[j, STRENGTH_LAW] == STRENGTH_BARTON_BANDIS:
                 args = (sigma, p[P_JRC], p[P_JCS], p[P_PHI_B], p[P_PHI_MAX], p[P_K_TANGENT])
                 subs[s, TANPHI] = math.tan(equivalent_friction_angle(*args))
@@ -174,7 +176,7 @@ def update_joint_laws(contacts, subs, n_sub, laws, params, changed_only):
 
 
 @numba.njit(cache=True)
-def stresses_moved(contacts, subs, n_sub, laws, params, change):
+def stresses_moved(contacts, subs, law_state, n_sub, laws, params, change):
     """True once a sub-contact of a stress-dependent joint type has a sigma_n or tau that differs from
     the one its laws were last evaluated at by more than `change` times the larger of that value and
     the type's stress floor, or (mobilized law) a shear path longer by `change` x delta_peak (so an
@@ -191,17 +193,17 @@ def stresses_moved(contacts, subs, n_sub, laws, params, change):
         floor = params[j, P_STRESS_FLOOR]
         peak = params[j, P_PEAK_DISPLACEMENT]
         for s in range(c * n_sub, (c + 1) * n_sub):
-            if peak > 0.0 and subs[s, PATH] - subs[s, LAW_PATH] > change * peak:
+            if peak > 0.0 and subs[s, PATH] - law_state[s, LAW_PATH] > change * peak:
                 return True
-            if abs(subs[s, SN] - subs[s, LAW_SN]) > change * max(abs(subs[s, LAW_SN]), floor):
+            if abs(subs[s, SN] - law_state[s, LAW_SN]) > change * max(abs(law_state[s, LAW_SN]), floor):
                 return True
-            if abs(subs[s, TAU] - subs[s, LAW_TAU]) > change * max(abs(subs[s, LAW_TAU]), floor):
+            if abs(subs[s, TAU] - law_state[s, LAW_TAU]) > change * max(abs(law_state[s, LAW_TAU]), floor):
                 return True
     return False
 
 
 @numba.njit(cache=True)
-def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
+def initial_joint_state(contacts, subs, law_state, n_sub, laws, params, first_new, intact):
     """Parameters of new sub-contacts (contacts first_new onwards) from their joint type.
 
     Contacts of the initial assembly (`intact`) get the type's cohesion and tensile strength; contacts
@@ -212,7 +214,8 @@ def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
         j = contacts[c, JOINT_TYPE]
         for s in range(c * n_sub, (c + 1) * n_sub):
             subs[s, :] = 0.0
-            subs[s, LAW_SN] = math.nan
+            law_state[s, :] = 0.0
+            law_state[s, LAW_SN] = math.nan
             subs[s, KN] = params[j, P_KN]
             subs[s, KS] = params[j, P_KS]
             subs[s, TANPHI] = math.tan(params[j, P_PHI])
@@ -230,7 +233,7 @@ def initial_joint_state(contacts, subs, n_sub, laws, params, first_new, intact):
 
 
 @numba.njit(cache=True)
-def _become_joint(subs, s, joint, laws, params):
+def _become_joint(subs, law_state, s, joint, laws, params):
     """A share of intact rock (a rock bridge, a fictitious joint) that has slipped or failed in tension
     becomes a share of joint type `joint`, brittlely: that joint's stiffness, friction and cohesion (none
     where the joint loses it at slip), and no tensile strength. A stress-dependent joint gives its own
@@ -239,7 +242,7 @@ def _become_joint(subs, s, joint, laws, params):
     p = params[joint]
     subs[s, TEN] = 0.0
     subs[s, SLIPPED] += BECAME_JOINT
-    subs[s, LAW_SN] = math.nan
+    law_state[s, LAW_SN] = math.nan
     if laws[joint, STRENGTH_LAW] == STRENGTH_CONSTANT:
         subs[s, TANPHI] = math.tan(p[P_PHI])
         subs[s, COH] = 0.0 if laws[joint, AFTER_SLIP] == AFTER_SLIP_ZERO else p[P_COH]
@@ -252,7 +255,7 @@ def _become_joint(subs, s, joint, laws, params):
 
 
 @numba.njit(cache=True)
-def break_bridges(contacts, subs, n_sub, laws, params, dry):
+def break_bridges(contacts, subs, law_state, n_sub, laws, params, dry):
     """After the contact forces of a step: every share of intact rock (a joint type with BREAKS_INTO)
     that slipped or failed in tension in it becomes the joint it breaks into (`_become_joint`), from the
     next step; a contact of intact rock whose every share has broken lets joint water in (its two
@@ -265,7 +268,7 @@ def break_bridges(contacts, subs, n_sub, laws, params, dry):
         for s in range(c * n_sub, (c + 1) * n_sub):
             state = subs[s, SLIPPED]
             if state != 0.0 and state < BECAME_JOINT + 0.5:
-                _become_joint(subs, s, joint, laws, params)
+                _become_joint(subs, law_state, s, joint, laws, params)
             through = through and state != 0.0
         if through:
             dry[contacts[c, EDGE_A]] = False

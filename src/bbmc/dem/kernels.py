@@ -80,6 +80,7 @@ def cycle(
     world,
     contacts,
     subs,
+    law_state,
     n_sub,
     laws,
     params,
@@ -124,9 +125,9 @@ def cycle(
     for done in range(n_steps):
         due = clock[SINCE_UPDATE] >= update_interval
         if variable_laws and not due and stress_change < math.inf:
-            due = stresses_moved(contacts, subs, n_sub, laws, params, stress_change)
+            due = stresses_moved(contacts, subs, law_state, n_sub, laws, params, stress_change)
         if variable_laws and due:
-            update_joint_laws(contacts, subs, n_sub, laws, params, changed_laws_only)
+            update_joint_laws(contacts, subs, law_state, n_sub, laws, params, changed_laws_only)
             clock[SINCE_UPDATE] = 0.0
             status = set_time_step(
                 clock,
@@ -166,6 +167,7 @@ def cycle(
             vertex_next,
             contacts,
             subs,
+            law_state,
             n_sub,
             laws,
             params,
@@ -176,7 +178,7 @@ def cycle(
             block_contacts,
         )
         if bridges:
-            break_bridges(contacts, subs, n_sub, laws, params, dry_edges)
+            break_bridges(contacts, subs, law_state, n_sub, laws, params, dry_edges)
         moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving, threaded)
         update_vertices(blocks, vertex_start, local, world, moving, threaded)
         clock[STEP] += 1.0

@@ -42,16 +42,21 @@ SLIPPED = 10  # 0 intact; SLIPPED_IN_SHEAR once it has slipped, FAILED_IN_TENSIO
 SLIPPED_IN_SHEAR, FAILED_IN_TENSION = 1.0, 2.0
 BECAME_JOINT = 2.0  # added to SLIPPED where a share of intact rock has become its joint (3, 4)
 CX, CY = 11, 12  # position [m]
+PATH = 13  # shear displacement path length while closed, sum of |d u_s| [m] (damage never heals)
+DILATION = 14  # normal opening by dilation so far [m]; the law's closure is u_n + DILATION
+CLOSED = 15  # fraction of the share that is closed (carries stress) [1]
+SUB_COLUMNS = 16  # 128 bytes a row: every step reads and writes each row whole (the engine's main traffic)
+
+# --- sub-contacts' law state: float64 (n_contacts * n_sub, LAW_STATE_COLUMNS), rows as `subs` -------
+# read by the law updates and the mobilized law's dilation only, so a step of the other scenes does not
+# move them through memory (written in the step only where a share slips or breaks)
 LAW_SN, LAW_TAU = (
-    13,
-    14,
+    0,
+    1,
 )  # the stresses the joint laws were last evaluated at (nan: evaluate at the next update)
-PATH = 15  # shear displacement path length while closed, sum of |d u_s| [m] (damage never heals)
-DILATION = 16  # normal opening by dilation so far [m]; the law's closure is u_n + DILATION
-TAN_DILATION = 17  # tan of the mobilized dilation angle at the last law update [1]
-LAW_PATH = 18  # PATH when the joint laws were last evaluated [m]
-CLOSED = 19  # fraction of the share that is closed (carries stress) [1]
-SUB_COLUMNS = 20
+LAW_PATH = 2  # PATH when the joint laws were last evaluated [m]
+TAN_DILATION = 3  # tan of the mobilized dilation angle at the last law update [1]
+LAW_STATE_COLUMNS = 4
 
 # corners are rounded over this fraction of the smaller block's size: within it of each other, two
 # corners in contact turn the normal gradually from one face's to the other's (`contact_frame`)

@@ -53,6 +53,7 @@ class State:
     world: np.ndarray
     contacts: np.ndarray
     subs: np.ndarray
+    law_state: np.ndarray  # the sub-contacts' law state (`layout.LAW_STATE_COLUMNS`), rows as `subs`
     n_sub: int
     immobile: np.ndarray  # blocks held still for the whole run (`Model.immobile`)
     moving: np.ndarray  # blocks whose motion the cycle computes (all, unless held ones are skipped)
@@ -101,6 +102,7 @@ def initial_state(model: Model) -> State:
         world=world,
         contacts=np.zeros((0, L.CONTACT_COLUMNS), dtype=np.int64),
         subs=np.zeros((0, L.SUB_COLUMNS)),
+        law_state=np.zeros((0, L.LAW_STATE_COLUMNS)),
         n_sub=n_sub,
         immobile=immobile,
         moving=~immobile if model.economy.skip_held_blocks else np.ones(len(blocks), dtype=bool),
@@ -244,7 +246,13 @@ def prepare(model: Model) -> State:
     search_contacts(model, state)
     if model.variable_laws:
         joint_state.update_joint_laws(
-            state.contacts, state.subs, state.n_sub, model.laws, model.params, model.economy.changed_laws_only
+            state.contacts,
+            state.subs,
+            state.law_state,
+            state.n_sub,
+            model.laws,
+            model.params,
+            model.economy.changed_laws_only,
         )
     _set_time_step(model, state)
     return state
@@ -290,6 +298,7 @@ def _cycles(model: Model, state: State, n_steps: int) -> int:
             state.world,
             state.contacts,
             state.subs,
+            state.law_state,
             state.n_sub,
             model.laws,
             model.params,

@@ -121,6 +121,7 @@ def copy_state(state: State) -> State:
         world=state.world.copy(),
         contacts=state.contacts.copy(),
         subs=state.subs.copy(),
+        law_state=state.law_state.copy(),
         dt_range=list(state.dt_range),
     )
 
@@ -218,9 +219,15 @@ def factor_of_safety(
         state = copy_state(equilibrium)
         trial_model = _with_params(model, reduced_params(model, factor, settings.barton_bandis_reduction))
         if settings.barton_bandis_reduction == "phi_b_jrc" and trial_model.variable_laws:
-            state.subs[:, L.LAW_SN] = math.nan  # the envelope changed: re-evaluate every sub-contact
+            state.law_state[:, L.LAW_SN] = math.nan  # the envelope changed: re-evaluate every sub-contact
             joint_state.update_joint_laws(
-                state.contacts, state.subs, state.n_sub, trial_model.laws, trial_model.params, True
+                state.contacts,
+                state.subs,
+                state.law_state,
+                state.n_sub,
+                trial_model.laws,
+                trial_model.params,
+                True,
             )
             # the divisor is 1 for these joints: their tensile strength is divided here instead
             law = trial_model.laws[state.contacts[:, L.JOINT_TYPE], L.STRENGTH_LAW]

@@ -103,6 +103,8 @@ class Scaling(Section):
     steps: Annotated[int, Field(ge=10, le=1_000_000)]
     repeats: Repeats
     memory_limit_GB: Annotated[float, Field(gt=0)]
+    # each size on each of these thread counts (the first the reference of the speed-up)
+    threads: list[Annotated[int, Field(ge=1, le=1024)]] = Field(default_factory=lambda: [1], min_length=1)
 
 
 class EngineCost(Section):
@@ -291,7 +293,13 @@ def economy_part(config: Config, scenes: PaperScenes, progress: Callable[[str], 
 def scaling_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     s = config.scaling
     growth = scaling_table(
-        s.block_counts, s.steps, s.repeats, s.memory_limit_GB * 1e9, config.slope_config, progress=progress
+        s.block_counts,
+        s.steps,
+        s.repeats,
+        s.memory_limit_GB * 1e9,
+        config.slope_config,
+        progress=progress,
+        threads=s.threads,
     )
     return {"scaling": growth}, {"scaling": scaling_figure(growth, config.figure_dpi)}
 
