@@ -68,7 +68,7 @@ def test_small_table_measured_in_processes_and_derived_columns():
 
 
 def test_a_size_estimated_above_the_memory_limit_is_skipped(monkeypatch):
-    def fake(blocks, steps, repeats, slope_config, min_timed_s):  # 1 kB per block above a 200 MB baseline
+    def fake(blocks, steps, repeats, slope_config, min_timed_s, threads):  # 1 kB a block above 200 MB
         return {"blocks": blocks, "seconds_per_step": 1e-6 * blocks, "peak_rss_MB": 200 + 1e-3 * blocks}
 
     monkeypatch.setattr(scaling, "baseline", lambda slope_config, timeout_s=None: 200.0)

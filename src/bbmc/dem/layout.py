@@ -10,13 +10,14 @@ thickness unless the scene sets another thickness.
 # --- blocks: float64 (n_blocks, BLOCK_COLUMNS) ---------------------------------------------------
 X, Y, TH = 0, 1, 2  # centroid [m], rotation from the initial position [rad]
 VX, VY, W = 3, 4, 5  # velocity [m/s] and angular velocity [rad/s] at the last half step
-MASS, INERTIA = 6, 7  # true mass [kg] and polar moment of inertia about the centroid [kg m^2]
-MX, MY, MW = 8, 9, 10  # inertial mass per degree of freedom (density scaling may raise it)
-FX, FY, FM = 11, 12, 13  # out-of-balance force [N] and moment [N m] of the current step
-X0, Y0 = 14, 15  # initial centroid [m]
-XR, YR, THR = 16, 17, 18  # position at the last contact search [m, rad]
-RADIUS = 19  # largest distance from the centroid to a vertex [m]
-SIZE = 20  # sqrt(area): the block size against which interpenetration is judged [m]
+SIZE = 6  # sqrt(area): the block size against which interpenetration is judged [m]
+FX, FY, FM = 7, 8, 9  # out-of-balance force [N] and moment [N m] of the current step
+# (columns 0-9 are all a contact reads and writes of its two blocks: two cache lines, not four)
+MASS, INERTIA = 10, 11  # true mass [kg] and polar moment of inertia about the centroid [kg m^2]
+MX, MY, MW = 12, 13, 14  # inertial mass per degree of freedom (density scaling may raise it)
+X0, Y0 = 15, 16  # initial centroid [m]
+XR, YR, THR = 17, 18, 19  # position at the last contact search [m, rad]
+RADIUS = 20  # largest distance from the centroid to a vertex [m]
 VPX, VPY, VPW = 21, 22, 23  # prescribed velocity of the prescribed degrees of freedom
 PVX, PVY, PW = 24, 25, 26  # velocity of the half step before (energies are read at full steps)
 VSTART = 27  # step from which the prescribed velocity applies (before it, prescribed dofs are held)
