@@ -201,9 +201,7 @@ def test_the_vertices_displacement_includes_the_blocks_rotation():
     column = model.block_names.index("column")
     blocks[column, [L.X, L.Y, L.TH, L.VX, L.VY, L.W]] += [0.2, -0.1, 0.3, 1.0, 0.0, 2.0]
     world = np.empty_like(start)
-    kernels.update_vertices(
-        blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool), False
-    )
+    kernels.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
     mesh, _ = block_mesh(model, blocks, world)
     np.testing.assert_allclose(mesh.point_data["displacement_m"][:, :2], world - start, atol=1e-12)
     mine = model.vertex_block == column

@@ -236,20 +236,7 @@ def _contact(c, blocks, world, vertex_next, contacts, subs, law_state, n_sub, la
 
 @numba.njit(cache=True, parallel=True)
 def contact_forces(
-    blocks,
-    world,
-    vertex_next,
-    contacts,
-    subs,
-    law_state,
-    n_sub,
-    laws,
-    params,
-    dt,
-    threaded,
-    per_contact,
-    block_start,
-    block_contacts,
+    blocks, world, vertex_next, contacts, subs, law_state, n_sub, laws, params, dt, threaded, per_contact
 ):
     """Update every sub-contact's stresses and add the contact forces and moments to the blocks
     (`law_state`: the sub-contacts' law state, read by the mobilized law's dilation, written where a
@@ -267,45 +254,49 @@ def contact_forces(
     (`_contact`) and added to each block in contact order, with their moments P x f = -s f_n - m f_s
     about the origin moved to the block's centroid.
 
-    `threaded`: on every thread of numba's pool, with the same result to the bit for any number of
-    threads: each contact's force and moments go into its own row of `per_contact` (float
-    (n_contacts, 4): fx, fy [N], moment on B, negated moment on A [N m]), then each block adds the rows
-    of its contacts in contact order (`block_contacts`: CSR by block from `block_start`, int64
-    (n_blocks + 1,); an entry c >= 0 is contact c with the block as B, -1 - c as A;
-    `kernels.block_contacts_of`), the order in which one thread adds them. Else one thread, the three
-    arrays unread (empty ones will do).
+    `threaded`: every thread of numba's pool takes contacts, each contact writing its sums into its own
+    row of `per_contact` (float (n_contacts, 4): fx, fy [N], moment on B, negated moment on A [N m]),
+    and the blocks are left for `add_contact_sums`, which adds them in the same order: the result is
+    the same to the bit for any number of threads. Else one thread adds them here (`per_contact` unread).
     """
     size = blocks[:, SIZE]
-    if not threaded:
-        for c in range(contacts.shape[0]):
+    if threaded:
+        for c in numba.prange(contacts.shape[0]):
             fx, fy, moment_b, moment_a = _contact(
                 c, blocks, world, vertex_next, contacts, subs, law_state, n_sub, laws, params, dt, size
             )
-            a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
-            blocks[b, FX] += fx
-            blocks[b, FY] += fy
-            blocks[b, FM] += moment_b
-            blocks[a, FX] -= fx
-            blocks[a, FY] -= fy
-            blocks[a, FM] -= moment_a
+            per_contact[c, 0] = fx
+            per_contact[c, 1] = fy
+            per_contact[c, 2] = moment_b
+            per_contact[c, 3] = moment_a
         return
-    for c in numba.prange(contacts.shape[0]):
+    for c in range(contacts.shape[0]):
         fx, fy, moment_b, moment_a = _contact(
             c, blocks, world, vertex_next, contacts, subs, law_state, n_sub, laws, params, dt, size
         )
-        per_contact[c, 0] = fx
-        per_contact[c, 1] = fy
-        per_contact[c, 2] = moment_b
-        per_contact[c, 3] = moment_a
-    for i in numba.prange(blocks.shape[0]):
-        for k in range(block_start[i], block_start[i + 1]):
-            entry = block_contacts[k]
-            if entry >= 0:
-                blocks[i, FX] += per_contact[entry, 0]
-                blocks[i, FY] += per_contact[entry, 1]
-                blocks[i, FM] += per_contact[entry, 2]
-            else:
-                c = -1 - entry
-                blocks[i, FX] -= per_contact[c, 0]
-                blocks[i, FY] -= per_contact[c, 1]
-                blocks[i, FM] -= per_contact[c, 3]
+        a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
+        blocks[b, FX] += fx
+        blocks[b, FY] += fy
+        blocks[b, FM] += moment_b
+        blocks[a, FX] -= fx
+        blocks[a, FY] -= fy
+        blocks[a, FM] -= moment_a
+
+
+@numba.njit(cache=True, inline="always")
+def add_contact_sums(blocks, i, per_contact, block_start, block_contacts):
+    """Add to block i the sums of its contacts that a threaded `contact_forces` left in `per_contact`,
+    in contact order, as one thread adds them (`block_contacts`: CSR by block from `block_start`, int64
+    (n_blocks + 1,); an entry c >= 0 is contact c with the block as B, -1 - c as A;
+    `kernels.block_contacts_of`)."""
+    for k in range(block_start[i], block_start[i + 1]):
+        entry = block_contacts[k]
+        if entry >= 0:
+            blocks[i, FX] += per_contact[entry, 0]
+            blocks[i, FY] += per_contact[entry, 1]
+            blocks[i, FM] += per_contact[entry, 2]
+        else:
+            c = -1 - entry
+            blocks[i, FX] -= per_contact[c, 0]
+            blocks[i, FY] -= per_contact[c, 1]
+            blocks[i, FM] -= per_contact[c, 3]

@@ -98,8 +98,6 @@ def search_contacts(model: Model, state: State) -> None:
         0.0,
         False,
         state.per_contact,
-        state.block_start,
-        state.block_contacts,
     )
     state.contacts, state.subs, state.law_state = contacts, subs, law_state
     if state.threads > 1:

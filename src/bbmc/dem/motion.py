@@ -39,7 +39,7 @@ from bbmc.dem.layout import (
 
 
 @numba.njit(cache=True)
-def _block_vertices(blocks, vertex_start, local, world, b):
+def block_vertices(blocks, vertex_start, local, world, b):
     """World coordinates of block b's vertices from its centroid and rotation [m]."""
     c, s = math.cos(blocks[b, TH]), math.sin(blocks[b, TH])
     for v in range(vertex_start[b], vertex_start[b + 1]):
@@ -47,18 +47,12 @@ def _block_vertices(blocks, vertex_start, local, world, b):
         world[v, 1] = blocks[b, Y] + s * local[v, 0] + c * local[v, 1]
 
 
-@numba.njit(cache=True, parallel=True)
-def update_vertices(blocks, vertex_start, local, world, moving, threaded):
-    """World coordinates of the vertices of every `moving` block from its centroid and rotation [m];
-    `threaded`: on every thread of numba's pool (each block writes its own vertices)."""
-    if not threaded:
-        for b in range(blocks.shape[0]):
-            if moving[b]:
-                _block_vertices(blocks, vertex_start, local, world, b)
-        return
-    for b in numba.prange(blocks.shape[0]):
+@numba.njit(cache=True)
+def update_vertices(blocks, vertex_start, local, world, moving):
+    """World coordinates of the vertices of every `moving` block from its centroid and rotation [m]."""
+    for b in range(blocks.shape[0]):
         if moving[b]:
-            _block_vertices(blocks, vertex_start, local, world, b)
+            block_vertices(blocks, vertex_start, local, world, b)
 
 
 @numba.njit(cache=True)
@@ -115,7 +109,7 @@ def _advance(force, velocity, mass, damping, dt):
 
 
 @numba.njit(cache=True)
-def _move_block(blocks, dof, damping, dt, step, i):
+def move_block(blocks, dof, damping, dt, step, i):
     """Block i's new velocities and position; returns how far it has moved since the last contact
     search [m] (translation plus radius times rotation). Prescribed dofs are held until their start
     step."""
@@ -137,18 +131,12 @@ def _move_block(blocks, dof, damping, dt, step, i):
     )
 
 
-@numba.njit(cache=True, parallel=True)
-def move_blocks(blocks, dof, damping, dt, step, moving, threaded):
-    """New velocities and positions of the `moving` blocks (`_move_block`); returns the largest
-    movement since the last contact search [m]. `threaded`: on every thread of numba's pool (each
-    block moves alone; the largest movement is the same whatever their order)."""
+@numba.njit(cache=True)
+def move_blocks(blocks, dof, damping, dt, step, moving):
+    """New velocities and positions of the `moving` blocks (`move_block`); returns the largest
+    movement since the last contact search [m]."""
     largest = 0.0
-    if not threaded:
-        for i in range(blocks.shape[0]):
-            if moving[i]:
-                largest = max(largest, _move_block(blocks, dof, damping, dt, step, i))
-        return largest
-    for i in numba.prange(blocks.shape[0]):
+    for i in range(blocks.shape[0]):
         if moving[i]:
-            largest = max(largest, _move_block(blocks, dof, damping, dt, step, i))
+            largest = max(largest, move_block(blocks, dof, damping, dt, step, i))
     return largest

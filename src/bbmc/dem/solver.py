@@ -92,9 +92,7 @@ def initial_state(model: Model) -> State:
     world = np.empty_like(model.local)
     blocks = model.blocks.copy()
     immobile = model.immobile
-    motion.update_vertices(
-        blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool), False
-    )
+    motion.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
     return State(
         clock=np.zeros(L.CLOCK_COLUMNS),
         blocks=blocks,
