@@ -14,7 +14,7 @@ import math
 import numba
 import numpy as np
 
-from bbmc.dem.contact_forces import add_contact_sums, contact_forces
+from bbmc.dem.contact_forces import contact_forces
 from bbmc.dem.joint_state import break_bridges, stresses_moved, update_joint_laws
 from bbmc.dem.layout import (
     BLOCK_A,
@@ -27,7 +27,7 @@ from bbmc.dem.layout import (
     STEP_ABOVE_CRITICAL,
     TIME,
 )
-from bbmc.dem.motion import apply_loads, block_vertices, move_block, move_blocks, update_vertices
+from bbmc.dem.motion import apply_loads, move_blocks
 from bbmc.dem.time_step import set_time_step
 from bbmc.dem.water import add_water_loads
 
@@ -65,34 +65,6 @@ def block_contacts_of(contacts: np.ndarray, n_blocks: int) -> tuple[np.ndarray, 
     start = np.zeros(n_blocks + 1, dtype=np.int64)
     np.cumsum(np.bincount(block, minlength=n_blocks), out=start[1:])
     return start, np.concatenate([-1 - index, index])[order]
-
-
-@numba.njit(cache=True, parallel=True)
-def _move_threaded(
-    blocks,
-    dof,
-    damping,
-    dt,
-    step,
-    moving,
-    vertex_start,
-    local,
-    world,
-    per_contact,
-    block_start,
-    block_contacts,
-):
-    """The threaded step's blocks, on every thread of numba's pool, each alone: its contacts' forces
-    added in contact order (`add_contact_sums`), then, if `moving`, its motion and vertices
-    (`move_block`, `block_vertices`) in the same pass; returns the largest movement since the last
-    contact search [m] (the same whatever the order)."""
-    largest = 0.0
-    for i in numba.prange(blocks.shape[0]):
-        add_contact_sums(blocks, i, per_contact, block_start, block_contacts)
-        if moving[i]:
-            largest = max(largest, move_block(blocks, dof, damping, dt, step, i))
-            block_vertices(blocks, vertex_start, local, world, i)
-    return largest
 
 
 @numba.njit(cache=True)
@@ -147,8 +119,8 @@ def cycle(
     `update_interval` cycles, and sooner once `stresses_moved` by `stress_change` (inf: never sooner).
     `changed_laws_only` and `moving`: see `update_joint_laws` and `move_blocks`.
     `threaded`: contact forces, motion and vertices on every thread of numba's pool (`contact_forces`
-    into `per_contact`, then `_move_threaded` with `block_start` and `block_contacts`), else on this
-    one; the result is the same to the bit.
+    into `per_contact`, then `move_blocks` with `block_start` and `block_contacts`), else on this one;
+    the result is the same to the bit.
     """
     for done in range(n_steps):
         due = clock[SINCE_UPDATE] >= update_interval
@@ -205,24 +177,21 @@ def cycle(
         )
         if bridges:
             break_bridges(contacts, subs, law_state, n_sub, laws, params, dry_edges)
-        if threaded:
-            moved = _move_threaded(
-                blocks,
-                dof,
-                damping,
-                dt,
-                clock[STEP],
-                moving,
-                vertex_start,
-                local,
-                world,
-                per_contact,
-                block_start,
-                block_contacts,
-            )
-        else:
-            moved = move_blocks(blocks, dof, damping, dt, clock[STEP], moving)
-            update_vertices(blocks, vertex_start, local, world, moving)
+        moved = move_blocks(
+            blocks,
+            dof,
+            damping,
+            dt,
+            clock[STEP],
+            moving,
+            vertex_start,
+            local,
+            world,
+            threaded,
+            per_contact,
+            block_start,
+            block_contacts,
+        )
         clock[STEP] += 1.0
         clock[TIME] += dt
         clock[SINCE_UPDATE] += 1.0

@@ -8,6 +8,7 @@ import math
 
 import numba
 
+from bbmc.dem.contact_forces import add_contact_sums
 from bbmc.dem.contact_geometry import edge_frame
 from bbmc.dem.layout import (
     FM,
@@ -38,7 +39,7 @@ from bbmc.dem.layout import (
 )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def block_vertices(blocks, vertex_start, local, world, b):
     """World coordinates of block b's vertices from its centroid and rotation [m]."""
     c, s = math.cos(blocks[b, TH]), math.sin(blocks[b, TH])
@@ -108,7 +109,7 @@ def _advance(force, velocity, mass, damping, dt):
     return velocity + force / mass * dt
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def move_block(blocks, dof, damping, dt, step, i):
     """Block i's new velocities and position; returns how far it has moved since the last contact
     search [m] (translation plus radius times rotation). Prescribed dofs are held until their start
@@ -131,12 +132,39 @@ def move_block(blocks, dof, damping, dt, step, i):
     )
 
 
-@numba.njit(cache=True)
-def move_blocks(blocks, dof, damping, dt, step, moving):
-    """New velocities and positions of the `moving` blocks (`move_block`); returns the largest
-    movement since the last contact search [m]."""
+@numba.njit(cache=True, parallel=True)
+def move_blocks(
+    blocks,
+    dof,
+    damping,
+    dt,
+    step,
+    moving,
+    vertex_start,
+    local,
+    world,
+    threaded,
+    per_contact,
+    block_start,
+    block_contacts,
+):
+    """New velocities and positions of the `moving` blocks (`move_block`) and their vertices
+    (`block_vertices`), block by block in one pass; returns the largest movement since the last contact
+    search [m]. `threaded`: on every thread of numba's pool, each block first adding its contacts'
+    forces that a threaded `contact_forces` left in `per_contact` (`add_contact_sums`, with
+    `block_start` and `block_contacts`); the largest movement is the same whatever the order. (Compiled
+    with parallel=True either way: numba's parallel pipeline also makes the one-thread loop 2.5 times
+    faster, measured at 10,000 blocks.)"""
     largest = 0.0
+    if threaded:
+        for i in numba.prange(blocks.shape[0]):
+            add_contact_sums(blocks, i, per_contact, block_start, block_contacts)
+            if moving[i]:
+                largest = max(largest, move_block(blocks, dof, damping, dt, step, i))
+                block_vertices(blocks, vertex_start, local, world, i)
+        return largest
     for i in range(blocks.shape[0]):
         if moving[i]:
             largest = max(largest, move_block(blocks, dof, damping, dt, step, i))
+            block_vertices(blocks, vertex_start, local, world, i)
     return largest
