@@ -17,8 +17,8 @@ from click.testing import CliRunner
 from bbmc import api
 from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml
-from bbmc.dem import kernels
 from bbmc.dem import layout as L
+from bbmc.dem import motion
 from bbmc.dem.model import build_model
 from bbmc.dem.solver import initial_state
 from bbmc.dem.vtk import block_mesh, read_vtu
@@ -201,7 +201,7 @@ def test_the_vertices_displacement_includes_the_blocks_rotation():
     column = model.block_names.index("column")
     blocks[column, [L.X, L.Y, L.TH, L.VX, L.VY, L.W]] += [0.2, -0.1, 0.3, 1.0, 0.0, 2.0]
     world = np.empty_like(start)
-    kernels.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
+    motion.update_vertices(blocks, model.vertex_start, model.local, world, np.ones(len(blocks), dtype=bool))
     mesh, _ = block_mesh(model, blocks, world)
     np.testing.assert_allclose(mesh.point_data["displacement_m"][:, :2], world - start, atol=1e-12)
     mine = model.vertex_block == column
