@@ -20,7 +20,7 @@ from bbmc.dem.layout import (
 PARALLEL = -1.0 + 1e-12  # cosine between two edges' normals below which they are parallel faces
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def edge_frame(world, vertex_next, e):
     """Start point, unit tangent and length of edge e (counter-clockwise, so the outward normal is
     (t_y, -t_x))."""
@@ -54,7 +54,7 @@ def _overlap(world, vertex_next, ea, eb, nx, ny):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def contact_frame(world, vertex_next, ea, eb, size, a, b):
     """The common line of edge ea (block A) and edge eb (block B), at any angle between them.
 
