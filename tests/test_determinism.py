@@ -5,6 +5,7 @@ The bench's tables are left out: wall times differ from run to run by nature (th
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -76,3 +77,38 @@ def test_one_and_two_threads_give_bit_identical_results(monkeypatch, paper_scene
     assert np.array_equal(one.blocks, two.blocks)
     assert np.array_equal(one.subs[:, [L.SN, L.TAU]], two.subs[:, [L.SN, L.TAU]])
     assert np.array_equal(one.subs, two.subs, equal_nan=True)
+
+
+def test_threads_option_sets_the_scene_threads_and_changes_no_result(tmp_path, monkeypatch):
+    """`bbmc run --threads N` runs the scene on N threads (the scene's solver.threads, kept in
+    provenance.json) and writes the same tables for 1 and 2, the threaded path taken on this small
+    scene too."""
+    from click.testing import CliRunner
+
+    from bbmc.cli import main
+    from bbmc.dem import kernels
+
+    monkeypatch.setattr(kernels, "THREADED_FROM_CONTACTS", 0)
+    scene = Path(__file__).resolve().parents[1] / "configs" / "scenes" / "toppling_column.yaml"
+    written = {}
+    for threads in (1, 2):
+        out = tmp_path / str(threads)
+        outcome = CliRunner().invoke(
+            main, ["run", str(scene), "--results", str(out), "--threads", str(threads)]
+        )
+        assert outcome.exit_code == 0, outcome.output
+        (written[threads],) = (out / "run").iterdir()
+        provenance = json.loads((written[threads] / "provenance.json").read_text())
+        assert provenance["config"]["solver"]["threads"] == threads
+    for table in ("blocks.csv", "contacts.csv", "history.csv"):
+        assert (written[1] / table).read_bytes() == (written[2] / table).read_bytes(), table
+
+
+def test_a_process_limited_to_one_thread_runs_every_scene_on_one(monkeypatch):
+    """A sweep's worker process calls `limit_threads(1)`: whatever a scene asks, its runs use one thread."""
+    from bbmc.dem import kernels
+
+    monkeypatch.setattr(kernels, "_thread_limit", kernels._thread_limit)
+    assert kernels.thread_count(1) == 1
+    kernels.limit_threads(1)
+    assert kernels.thread_count(None) == kernels.thread_count(8) == 1
