@@ -108,6 +108,25 @@ PARAMETERS = 29
 # P_STRENGTH_DIVISOR: strength reduction (`bbmc fos`): a sub-contact's shear strength c + sigma_n tan(phi)
 # and its tensile strength are divided by it; 1 for every scene that `bbmc run` runs
 
+# --- support elements: int64 (n_elements, 2) the two blocks, and float64 (n_elements, SUPPORT_COLUMNS) --
+# An element joins a point of block A to a point of block B: an anchor's head and end, or a grouted
+# bolt's two sides of one joint it crosses (`bbmc.dem.support`). Forces are per metre run [N/m].
+ANCHOR, GROUTED = 0.0, 1.0  # KIND
+KIND = 0
+AX, AY, BX, BY = 1, 2, 3, 4  # the two points in their blocks' frames (from the centroid, unrotated) [m]
+DIR_X, DIR_Y = 5, 6  # grouted: the bolt's axis at the start [1]
+PLANE_X, PLANE_Y = 7, 8  # the joint it crosses: its tangent in A's frame (passive reduction) [1]
+K_AXIAL, K_SHEAR = 9, 10  # stiffness [N/m per m]
+PRETENSION = 11  # anchor [N/m]
+CAP_AXIAL, CAP_SHEAR = 12, 13  # capacity [N/m]; CAP_SHEAR 0: no shear spring
+FREE_LENGTH = 14  # anchor: its length at the start; grouted: the debonded length [m]
+RUPTURE = 15  # elongation at rupture over FREE_LENGTH [1]
+AXIAL, SHEAR = 16, 17  # force now, tension > 0 [N/m]
+SLIP_AXIAL, SLIP_SHEAR = 18, 19  # plastic displacement [m]
+BROKEN = 20  # 1 once ruptured (carries nothing after)
+YIELDED = 21  # 1 once it has reached its capacity
+SUPPORT_COLUMNS = 22
+
 # --- run clock: float64 (CLOCK_COLUMNS,) ------------------------------------------------------------
 STEP, TIME, DT, SINCE_UPDATE = 0, 1, 2, 3
 CLOCK_COLUMNS = 4

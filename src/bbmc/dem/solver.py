@@ -57,6 +57,7 @@ class State:
     immobile: np.ndarray  # blocks held still for the whole run (`Model.immobile`)
     moving: np.ndarray  # blocks whose motion the cycle computes (all, unless held ones are skipped)
     dry_edges: np.ndarray  # edges of intact rock that joint water does not reach (until it breaks)
+    support: np.ndarray  # the support elements' rows (`layout`'s support columns), forces and state
     searches: int = 0
     dt_range: list[float] = field(default_factory=lambda: [math.inf, 0.0])
     largest_overlap: float = 0.0
@@ -97,6 +98,7 @@ def initial_state(model: Model) -> State:
         immobile=immobile,
         moving=~immobile if model.economy.skip_held_blocks else np.ones(len(blocks), dtype=bool),
         dry_edges=np.zeros(len(model.local), dtype=bool),
+        support=model.support.support.copy(),
     )
 
 
@@ -107,7 +109,7 @@ def _set_time_step(model: Model, state: State) -> None:
         *_stiffness(model, state),
         TIME_STEP_MODES[ts.mode],
         ts.safety_factor,
-        ts.step_s or math.inf,
+        largest_time_step(model),
         model.scene.solver.damping,
     )
     if status == L.STEP_ABOVE_CRITICAL:
@@ -126,6 +128,23 @@ def _set_time_step(model: Model, state: State) -> None:
                 f"(interpenetration {now:.3g} of a block's size); likely cause: joints too soft for the load"
             )
     _note_time_step(state)
+
+
+def largest_time_step(model: Model) -> float:
+    """The upper limit of the time step [s]: the scene's step_s (auto: its upper limit; fixed and
+    density scaling: the step), and with support elements, safety x their own critical step
+    (`SupportElements.critical_time_step`); a fixed step above that is refused."""
+    ts = model.scene.solver.time_step
+    support = model.support.critical_time_step(model.blocks, model.immobile)
+    if ts.mode == "auto":
+        return min(ts.step_s or math.inf, ts.safety_factor * support)
+    if ts.step_s > support:
+        raise SimulationError(
+            f"key 'solver.time_step.step_s': the fixed time step {ts.step_s:.3g} s is above the critical "
+            f"step of the blocks on their support springs ({support:.3g} s); lower it or use mode auto",
+            bad_input=True,
+        )
+    return ts.step_s
 
 
 def _note_time_step(state: State) -> None:
@@ -295,11 +314,14 @@ def _cycles(model: Model, state: State, n_steps: int) -> int:
             model.water_unit_weight,
             state.dry_edges,
             model.has_bridges,
+            model.support.blocks,
+            state.support,
+            model.support_divisor,
             solver.damping,
             model.search_margin,
             TIME_STEP_MODES[ts.mode],
             ts.safety_factor,
-            ts.step_s or math.inf,
+            largest_time_step(model),
         )
         state.cycle_pace.timed(done, time.perf_counter() - started)
         left -= done
