@@ -104,7 +104,6 @@ def draw_support(ax: Axes, model: Model, blocks: np.ndarray, support: np.ndarray
         norm=Normalize(0.0, top),
         linewidths=2.5,
         linestyles=np.where(broken, ":", "-").tolist(),
-        label="support",
     )
     ax.add_collection(drawn)
     ax.figure.colorbar(drawn, ax=ax, shrink=0.7, label="axial load [kN per bolt] (top: largest capacity)")

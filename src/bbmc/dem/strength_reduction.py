@@ -36,7 +36,9 @@ whatever the bolt: (c A + (N + T sin theta) tan phi) / F + T cos theta = W sin p
 With ``support_form: passive`` the part of each element's force along the joint it crosses is divided
 by F as well, RocPlane's *passive* form: (c A + (N + T sin theta) tan phi + T cos theta) / F = W sin
 psi. A grouted bolt's force grows with the displacement across its joint, so its share at failure is
-what it carries once a trial's blocks have moved `failure_displacement_m` (docs/how-to/support.md).
+what it carries once a trial's blocks have moved `failure_displacement_m` (docs/how-to/support.md);
+a trial's budget and trend windows are counted from the support's longest natural period where that is
+longer than the equilibrium's steps.
 """
 
 from __future__ import annotations
@@ -208,6 +210,14 @@ def failure_displacement(model: Model) -> float:
     return given if given is not None else 0.05 * float(np.median(sizes))
 
 
+def _support_response_steps(model: Model, state: State) -> int:
+    """The steps of the longest natural period of a block on its support (`SupportElements.
+    longest_period`; 0 without support): a trial's budget and trend windows are counted from the larger
+    of it and the equilibrium's steps, so that a soft support has the time to pick up its load."""
+    period = model.support.longest_period(model.blocks, model.immobile)
+    return math.ceil(period / state.clock[L.DT]) if period > 0 else 0
+
+
 def factor_of_safety(
     model: Model, progress: Callable[[str], None] = lambda _: None
 ) -> StrengthReductionResult:
@@ -217,8 +227,9 @@ def factor_of_safety(
     reference = mon.reference_force(model)
     progress("equilibrium with the strengths as given")
     start, equilibrium, n_r, eq_seconds = _equilibrium(model, settings, failure, reference)
-    budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * n_r))
-    window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * n_r))
+    response = max(n_r, _support_response_steps(model, equilibrium))
+    budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * response))
+    window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * response))
     progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
     trials: list[Trial] = []
     mechanism, held = None, equilibrium.support.copy()

@@ -50,15 +50,9 @@ class SupportElements:
             np.zeros((0, 2, 2)),
         )
 
-    def critical_time_step(self, blocks: np.ndarray, held: np.ndarray) -> float:
-        """The critical step of the blocks on their support springs alone [s]: min over blocks of
-        2 sqrt(m / sum k) and 2 sqrt(I / sum k r^2), with k the axial plus shear stiffness of every
-        element on the block and r its arm (inf without support). Contacts and support act on the same
-        blocks; the engine takes the smaller of this and the contacts' own critical step, which can
-        overrate the combined one by up to sqrt 2 where the two are alike (a safety factor <= 0.7
-        covers it; support is far softer than contacts in practice)."""
-        if not len(self.names):
-            return np.inf
+    def _mass_over_stiffness(self, blocks: np.ndarray, held: np.ndarray) -> np.ndarray:
+        """m / sum k and I / sum k r^2 of every block free to move that the support acts on [s^2], with k
+        the axial plus shear stiffness of each element on it and r its arm."""
         k = self.support[:, L.K_AXIAL] + self.support[:, L.K_SHEAR]
         translation, rotation = np.zeros(len(blocks)), np.zeros(len(blocks))
         for side, columns in ((0, [L.AX, L.AY]), (1, [L.BX, L.BY])):
@@ -66,14 +60,26 @@ class SupportElements:
             np.add.at(translation, self.blocks[:, side], k)
             np.add.at(rotation, self.blocks[:, side], k * arm**2)
         translation[held], rotation[held] = 0.0, 0.0
-        loaded = translation > 0
-        steps = np.concatenate(
+        return np.concatenate(
             [
-                2.0 * np.sqrt(blocks[loaded, L.MASS] / translation[loaded]),
-                2.0 * np.sqrt(blocks[rotation > 0, L.INERTIA] / rotation[rotation > 0]),
+                blocks[translation > 0, L.MASS] / translation[translation > 0],
+                blocks[rotation > 0, L.INERTIA] / rotation[rotation > 0],
             ]
         )
-        return float(steps.min(initial=np.inf))
+
+    def critical_time_step(self, blocks: np.ndarray, held: np.ndarray) -> float:
+        """The critical step of the blocks on their support springs alone [s]: the least of
+        2 sqrt(m / sum k) and 2 sqrt(I / sum k r^2) (inf without support). Contacts and support act on
+        the same blocks; the engine takes the smaller of this and the contacts' own critical step, which
+        can overrate the combined one by up to sqrt 2 where the two are alike (a safety factor <= 0.7
+        covers it; support is far softer than contacts in practice)."""
+        return float(2.0 * np.sqrt(self._mass_over_stiffness(blocks, held).min(initial=np.inf)))
+
+    def longest_period(self, blocks: np.ndarray, held: np.ndarray) -> float:
+        """The longest natural period of a block on its support springs alone [s]: the greatest of
+        2 pi sqrt(m / sum k) and 2 pi sqrt(I / sum k r^2) (0 without support). A soft support takes
+        about this long to pick up its load: a strength-reduction trial's budget allows for it."""
+        return float(2.0 * np.pi * np.sqrt(self._mass_over_stiffness(blocks, held).max(initial=0.0)))
 
 
 def _stretch(shape: np.ndarray, head: np.ndarray, end: np.ndarray) -> tuple[float, float, np.ndarray]:
