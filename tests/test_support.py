@@ -258,3 +258,24 @@ def test_supported_toppling_on_the_engine_is_near_goodman_bray_with_a_toe_anchor
     dem = ts.limiting_friction(blocks, le - 2.0, le + 2.0, 0.05, settings_, scene_of=with_anchor)
     assert le < math.degrees(tp.limiting_friction(blocks)) - 1.0
     assert dem == pytest.approx(le, abs=0.3)
+
+
+def test_a_toppling_study_takes_roctopples_support_sample_by_sample():
+    """A toppling base with a support whose force varies per sample gives, for each sample, the FS of
+    `toppling.factor_of_safety` with that support (1e-12)."""
+    from bbmc.sweep.models import TopplingModel
+
+    base = {"kind": "toppling", "width_m": 10.0, "base_dip_deg": 30.0, "crest_block": 10, "a1_m": 5.0,
+            "a2_m": 5.0, "b_m": 1.0, "friction_deg": 40.0, "side_friction_deg": None,
+            "unit_weight_kN_m3": 25.0,
+            "support": {"block": 1, "force_kN_per_m": 1000.0, "angle_deg": 30.0, "height_m": 0.5}}  # fmt: skip
+    inputs = pd.DataFrame(
+        {"friction_deg": [38.0, 40.0, 38.0], "support.force_kN_per_m": [1000.0, 500.0, 0.0]}
+    )
+    found = TopplingModel(base)(inputs)["factor_of_safety"].to_numpy()
+    blocks = tp.regular_system(10.0, math.radians(30.0), 10, 5.0, 5.0, 1.0)
+    for k, (phi, force) in enumerate(inputs.itertuples(index=False)):
+        support = tp.BlockSupport.on_block(blocks, 1, force * 1e3, math.radians(30.0), 0.5) if force else None
+        expected = tp.factor_of_safety(blocks, math.radians(phi), support=support, unit_weight=25e3)
+        assert found[k] == pytest.approx(float(expected), rel=1e-12)
+    assert found[0] > found[2]

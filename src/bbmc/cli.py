@@ -332,7 +332,8 @@ def fos_command(config_path: Path, results: str, strict: bool) -> None:
       bbmc fos configs/scenes/planar_crack.yaml
     writes results/fos/<scene name>/fos.csv (every trial: F, verdict, steps, largest displacement,
     wall time), summary.csv (factor_of_safety, trials, time), mechanism.png, bracketing.png,
-    provenance.json. Each trial is reported on stderr once the search has lasted 2 s.
+    provenance.json; with support, also without it and support.csv; with a design: section,
+    design.csv. Each trial is reported on stderr once the search has lasted 2 s.
     """
     with _reported(fos_stage.NAME, strict):
         scene = load_config(config_path, fos_stage.Config)
@@ -353,6 +354,8 @@ def fos_command(config_path: Path, results: str, strict: bool) -> None:
     )
     if outcome.progressive_note:
         click.echo(f"bbmc fos: note: {outcome.progressive_note}")
+    for line in fos_stage.support_lines(scene, result.tables["summary"]):
+        click.echo(f"bbmc fos: {line}")
     _report_written(fos_stage.NAME, out_dir, written)
 
 

@@ -95,6 +95,26 @@ def summary_table(
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 
 
+def support_lines(scene: Scene, summary: pd.DataFrame) -> list[str]:
+    """What the command prints of the support and the design (nothing for a scene without them)."""
+    value = dict(zip(summary["quantity"], summary["value"], strict=True))
+    lines = []
+    if "factor_of_safety_without_support" in value:
+        lines.append(f"without its support: factor of safety {value['factor_of_safety_without_support']:.4g}")
+    design = scene.design
+    if design is not None:
+        unit = "kN" if design.vary == "capacity" else "m"
+        found = value[f"design_{design.vary}"]
+        lines.append(
+            f"design: {design.support} {design.vary} {found:.4g} {unit} gives FS {design.target_fs:g} "
+            f"({int(value['design_trials'])} trials, {value['design_wall_time']:.1f} s; design.csv)"
+            if value["design_reached"]
+            else f"design: no {design.vary} in {design.range} {unit} gives FS {design.target_fs:g} "
+            "(design.csv)"
+        )
+    return lines
+
+
 def run(
     scene: Scene, config_path: Path, progress: Callable[[str], None] = lambda _: None
 ) -> tuple[StageResult, StrengthReductionResult]:
