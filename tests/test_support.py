@@ -268,7 +268,8 @@ def test_a_toppling_study_takes_roctopples_support_sample_by_sample():
     base = {"kind": "toppling", "width_m": 10.0, "base_dip_deg": 30.0, "crest_block": 10, "a1_m": 5.0,
             "a2_m": 5.0, "b_m": 1.0, "friction_deg": 40.0, "side_friction_deg": None,
             "unit_weight_kN_m3": 25.0,
-            "support": {"block": 1, "force_kN_per_m": 1000.0, "angle_deg": 30.0, "height_m": 0.5}}  # fmt: skip
+            "support": {"block": 1, "force_kN_per_m": 1000.0, "angle_deg": 30.0,
+                        "height_m": 0.5}}  # fmt: skip
     inputs = pd.DataFrame(
         {"friction_deg": [38.0, 40.0, 38.0], "support.force_kN_per_m": [1000.0, 500.0, 0.0]}
     )
