@@ -33,6 +33,7 @@ slope: $(STAMP)
 
 fos: $(STAMP)
 	$(BIN)/bbmc fos --config configs/scenes/planar_crack.yaml
+	$(BIN)/bbmc fos configs/scenes/bolted_planar.yaml
 	$(BIN)/bbmc run configs/scenes/benched_rock_mass.yaml
 	$(BIN)/bbmc fos configs/scenes/benched_rock_mass.yaml
 
