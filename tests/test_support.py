@@ -174,6 +174,34 @@ def test_design_finds_the_capacity_for_fs_1_5_and_the_engine_confirms_it():
     assert result.value == pytest.approx(force * spacing / 1e3, rel=0.02)
 
 
+def test_a_scene_that_is_no_planar_block_is_designed_by_the_engine_alone():
+    """Two free blocks (a slab on the block): no limit-equilibrium stage; the engine's search ends at
+    a capacity whose FS reaches the target, and the one below it (within the tolerance) does not."""
+    scene = block_scene(anchor(pretension_kN=100, steel_capacity_kN=100))
+    scene["blocks"].append(
+        {"name": "slab", "material": "rock", "rectangle_m": {"x_m": 6, "y_m": 4, "width_m": 4, "height_m": 1},
+         "rotate_deg": 35.0, "rotate_about_m": [0, 0]}
+    )  # fmt: skip
+    scene["joint_laws"]["rough"] = {
+        "law": "constant",
+        "kn_MPa_per_mm": 10,
+        "ks_MPa_per_mm": 10,
+        "friction_deg": 60.0,
+    }
+    scene["contacts"]["rules"] = [{"law": "rough", "groups": ["block", "slab"]}]
+    scene["design"] = {"target_fs": 1.2, "support": "a1", "vary": "capacity", "range": [50, 1000],
+                       "tolerance": 0.05}  # fmt: skip
+    scene["fos"]["tolerance"] = 0.01
+    model = built_scene(scene, "<two blocks>")
+    assert isinstance(planar_limit_equilibrium(model), str)
+    result = design_support(model, Path("<two blocks>"))
+    assert set(result.trials["stage"]) == {"engine"}
+    assert "free to move" in result.limit_equilibrium_note
+    passed = result.trials[result.trials["factor_of_safety"] >= 1.2 - 0.005]["value"]
+    failed = result.trials[result.trials["factor_of_safety"] < 1.2 - 0.005]["value"]
+    assert result.value == passed.min() and failed.max() < result.value <= 1.05 * failed.max()
+
+
 def test_bbmc_fos_writes_the_fos_with_and_without_support_and_the_design(tmp_path):
     outcome = run_stage("fos", tmp_path, CONFIGS / "scenes" / "bolted_planar.yaml")
     assert outcome.exit_code == 0, outcome.output

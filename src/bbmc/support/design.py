@@ -206,7 +206,9 @@ def design_support(
     problem = planar_limit_equilibrium(model)
     note = problem if isinstance(problem, str) else ""
     start = unsafe_end
-    if not note:
+    if note:
+        progress(f"design: no limit-equilibrium stage ({note}): the engine alone searches")
+    else:
         le = _search(
             lambda v: (
                 trial(

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from bbmc.config import ConfigError
 from bbmc.dem import layout as L
+from bbmc.dem.scene import scene_error
 from bbmc.support.capacity import anchor_capacity, grouted_bolt_capacity
 from bbmc.support.config import Anchor, GroutedBolt
 
@@ -26,9 +26,10 @@ INSIDE = 1e-9  # relative tolerance of "inside a block" and of a stretch's ends
 
 @dataclass(frozen=True)
 class SupportElements:
-    """The engine's support arrays and what each row is: its tendon, its crossing (0 for an
-    anchor), the per-bolt factor (spacing [m]) that turns its per-metre forces back into forces per
-    bolt, and its world point at the start [m]."""
+    """The engine's support arrays (`blocks`, `support`: `layout`'s support columns) and what each row
+    is: its tendon's name, its crossing (0 for an anchor), its spacing [m] (per-metre forces times it
+    are forces per bolt), its point at the start (an anchor's head, a crossing's point) [m], and its
+    tendon's head and end at the start, (n, 2, 2) [m]."""
 
     names: list[str]
     crossing: np.ndarray
@@ -93,7 +94,7 @@ def _stretch(shape: np.ndarray, head: np.ndarray, end: np.ndarray) -> tuple[floa
     for k in range(len(shape)):
         rate = float(outward[k] @ direction)
         gap = float(outward[k] @ (head - shape[k]))  # > 0: the head is outside edge k
-        if abs(rate) <= tolerance * 1e-3:
+        if abs(rate) <= tolerance:
             if gap > tolerance:
                 return 1.0, 0.0, exit_edge
             continue
@@ -119,10 +120,6 @@ def _path(
         if t_out - t_in > INSIDE:
             found.append((b, t_in, t_out, tangent))
     return sorted(found, key=lambda item: item[1])
-
-
-def _fault(path: Path, key: str, message: str) -> ConfigError:
-    return ConfigError(f"{path}: key '{key}': {message}")
 
 
 def _holding(on_path: list, t: float) -> tuple[int, float, float, np.ndarray] | None:
@@ -154,10 +151,10 @@ def support_elements(
     for k, tendon in enumerate(tendons):
         key = f"support.{k}"
         if tendon.name in seen:
-            raise _fault(path, f"{key}.name", f"two support elements are named '{tendon.name}'")
+            raise scene_error(path, f"{key}.name", f"two support elements are named '{tendon.name}'")
         seen.add(tendon.name)
         if tendon.length_m > extent:
-            raise _fault(
+            raise scene_error(
                 path,
                 f"{key}.end_m",
                 f"the bolt is {tendon.length_m:.4g} m long, longer than the model ({extent:.4g} m across)",
@@ -166,7 +163,7 @@ def support_elements(
         on_path = _path(shapes, head, end)
         for which, t, point in (("head_m", 0.0, head), ("end_m", 1.0, end)):
             if _holding(on_path, t) is None:
-                raise _fault(path, f"{key}.{which}", f"the point {point.tolist()} lies in no block")
+                raise scene_error(path, f"{key}.{which}", f"the point {point.tolist()} lies in no block")
         made = (
             [_anchor_row(tendon, on_path, head, end, centroids, path, key)]
             if isinstance(tendon, Anchor)
@@ -204,7 +201,9 @@ def _anchor_row(
     a, _, _, plane = _holding(on_path, 0.0)
     b = _holding(on_path, 1.0)[0]
     if a == b:
-        raise _fault(path, f"{key}.end_m", "the anchor's head and end lie in one block: it holds nothing")
+        raise scene_error(
+            path, f"{key}.end_m", "the anchor's head and end lie in one block: it holds nothing"
+        )
     length = anchor.length_m
     capacity = float(
         anchor_capacity(
@@ -215,7 +214,7 @@ def _anchor_row(
         )
     )
     if anchor.pretension_kN * 1e3 > capacity:
-        raise _fault(
+        raise scene_error(
             path,
             f"{key}.pretension_kN",
             f"{anchor.pretension_kN:g} kN is above the anchor's capacity "
@@ -284,7 +283,7 @@ def _crossing_rows(
         row[L.RUPTURE] = bolt.rupture_strain
         made.append(((a, b), row, point))
     if len(on_path) < 2:
-        raise _fault(path, f"{key}.end_m", "the grouted bolt crosses no joint (it lies in one block)")
+        raise scene_error(path, f"{key}.end_m", "the grouted bolt crosses no joint (it lies in one block)")
     if not made:
-        raise _fault(path, f"{key}.end_m", "every joint the bolt crosses lies between blocks held still")
+        raise scene_error(path, f"{key}.end_m", "every joint the bolt crosses lies between blocks held still")
     return made
