@@ -420,9 +420,13 @@ def bench_command(config_path: Path, results: str, strict: bool, only: str | Non
     verification factor of safety: error, trials, wall time, and its change with one solver setting),
     mobilized_cost.csv (the full Barton-Bandis law's update cost and update schedules), sweep_cost.csv
     (sweep throughput, speed-up on 2 processes and a LocalCluster, task overhead),
-    laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
+    laws.csv (ufunc vs njit vs Python), rockmass_cost.csv (a rock mass's generation, its bridges'
+    cost per step), bandwidth.csv (the memory bandwidth, a STREAM triad on 1 and every thread),
+    bandwidth_limit.csv (bytes per sub-contact update, the most updates/s the bandwidth carries),
+    tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios. Each section of the
-    config (tradeoff, economy, scaling, engine_cost, fos, mobilized, sweep, laws) is optional;
+    config (tradeoff, economy, scaling, engine_cost, fos, mobilized, sweep, laws, rockmass,
+    bandwidth) is optional;
     `bbmc bench --only scaling,engine_cost` runs those alone.
     """
     options = {} if only is None else {"only": [name.strip() for name in only.split(",")]}
