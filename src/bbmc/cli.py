@@ -506,7 +506,12 @@ def warmup_command() -> None:
     with _reported("warmup"):
         done = warmup_module.warm(lambda part: click.echo(f"bbmc warmup: {part}...", err=True))
     where = f"the cache {done.folder}"
-    if done.compiled:
+    if not done.cached:  # the keyed cache could not be made and numba keeps its files elsewhere, or nowhere
+        click.echo(
+            f"bbmc warmup: ran in {done.seconds:.1f} s, but found no compiled kernel in {done.folder}: "
+            "numba keeps them elsewhere or not at all"
+        )
+    elif done.compiled:
         click.echo(
             f"bbmc warmup: compiled {done.compiled} kernels into {where} in {done.seconds:.1f} s; "
             "the next run loads them from it"
