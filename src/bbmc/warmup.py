@@ -1,11 +1,14 @@
 """`bbmc warmup`: compile every numba kernel of the engine and the laws into the on-disk cache once, so
-that a user's first `bbmc run` loads them (about 3 s) instead of compiling them (about 18 s).
+that a user's first `bbmc run` loads them instead of compiling them (`bbmc run
+configs/scenes/example.yaml`: 3.4-4.2 s after a warm-up, 20-24 s on a cold cache).
 
 pip has no post-install hook, so `make` calls it after installing (the `.venv/.installed` step). It
 compiles through the public run path, not from a list of kernels: two small built-in scenes are run
 with `bbmc.api.run`, and the factor of safety of one of them with `bbmc.api.factor_of_safety`, so every
 kernel those paths call is compiled with the exact argument types a real run gives it, and a kernel
-added to the engine later is warmed without an edit here (as long as these scenes reach it):
+added to the engine later is warmed without an edit here, as long as these scenes reach it (a slow
+test fails naming any kernel of `bbmc.dem` a cold warm-up leaves uncompiled; a setting that selects
+other kernels, a thread count say, needs a run with it here):
 
 * `PLAIN`: a brick wall under a slab on constant Mohr–Coulomb joints, the automatic time step;
 * `FEATURED`: a block on the paper's peak-only Barton–Bandis joint, one on the full (mobilized)
