@@ -14,6 +14,7 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
+from bbmc.bench.bandwidth import bandwidth_fraction, bytes_per_update, gather_bytes
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.paper_scenes import Reading, ShearScene, SlopeScene, relative_error
@@ -207,3 +208,24 @@ def test_a_section_that_cannot_run_is_refused_in_one_line(tmp_path, sections, on
     for fragment in fragments:
         assert fragment in lines[0], lines[0]
     assert not out.exists()
+
+
+def test_bytes_per_update_add_up_the_rows_a_sub_contact_update_streams():
+    """20 float64 columns read and written (320 B), a quarter of a contact's 5 int64 columns (10 B),
+    an eighth of a block's 28 float64 columns read and written (56 B) and of its 4 vertices' local
+    and world coordinates (16 B); the gathers of 2 blocks' rows and 2 vertices each: 512 B / 4."""
+    assert bytes_per_update(4, 8.0, 4.0) == 320 + 10 + 56 + 16
+    assert gather_bytes(4) == 128
+    assert bandwidth_fraction(50e6, 400.0, 40.0) == pytest.approx(0.5)
+
+
+def test_bandwidth_section_writes_the_triad_on_one_and_every_thread_and_the_limit(tmp_path):
+    bandwidth = {"array_MB": 2, "repeats": 1, "blocks": 100}
+    outcome, out = _bench(tmp_path, {"bandwidth": bandwidth})
+    assert outcome.exit_code == 0, outcome.output
+    triad = pd.read_csv(out / "bandwidth.csv")
+    assert list(triad.columns) == ["threads", "array_MB", "GB_per_s", "repeats"]
+    assert triad["threads"].iloc[0] == 1 and (triad["GB_per_s"] > 0).all()
+    limit = pd.read_csv(out / "bandwidth_limit.csv")
+    assert (limit["bytes_per_update"] > 320).all()
+    assert np.allclose(limit["updates_per_s_limit"], limit["GB_per_s"] * 1e9 / limit["bytes_per_update"])
