@@ -174,6 +174,25 @@ def test_design_finds_the_capacity_for_fs_1_5_and_the_engine_confirms_it():
     assert result.value == pytest.approx(force * spacing / 1e3, rel=0.02)
 
 
+def test_design_finds_the_largest_spacing_for_a_target():
+    """The same anchors at 1,000 kN: the largest spacing for FS 1.2 is capacity / (the force per metre
+    the active form needs), and the engine's FS there reaches it."""
+    path = CONFIGS / "scenes" / "bolted_planar.yaml"
+    tree = yaml.safe_load(path.read_text())
+    tree["design"] = {"target_fs": 1.2, "support": "anchors", "vary": "spacing", "range": [0.5, 20.0]}
+    model = built_scene(tree, str(path))
+    problem = planar_limit_equilibrium(model)
+    along, onto = -problem.down @ [1.0, 0.0], problem.into @ [1.0, 0.0]
+    force = (1.2 * problem.driving - problem.cohesion_force - problem.normal * problem.tan_phi) / (
+        1.2 * along + onto * problem.tan_phi
+    )
+    result = design_support(model, path)
+    le = result.trials[result.trials["stage"] == "limit_equilibrium"]
+    assert le["value"].iloc[-1] == pytest.approx(1000e3 / force, rel=1e-3)
+    assert result.trials["factor_of_safety"].iloc[-1] >= 1.2 - 0.005
+    assert result.value == pytest.approx(1000e3 / force, rel=0.02)
+
+
 def test_a_scene_that_is_no_planar_block_is_designed_by_the_engine_alone():
     """Two free blocks (a slab on the block): no limit-equilibrium stage; the engine's search ends at
     a capacity whose FS reaches the target, and the one below it (within the tolerance) does not."""
