@@ -20,6 +20,7 @@ import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from bbmc import api
 from bbmc.dem import layout as L
 from bbmc.dem.model import built_scene
 from bbmc.dem.solver import load_scene
@@ -27,7 +28,7 @@ from bbmc.dem.strength_reduction import factor_of_safety
 from bbmc.dem.support import support_forces
 from bbmc.slope import toppling as tp
 from bbmc.slope import toppling_scene as ts
-from bbmc.support.design import design_support, planar_limit_equilibrium
+from bbmc.support.design import design_support, planar_limit_equilibrium, support_force_on
 from stage_runs import CONFIGS, refused, run_stage
 
 DENSITY, G = 2600.0, 9.81
@@ -105,7 +106,7 @@ def test_support_reduced_too_gives_rocplanes_passive_form_within_2_percent():
 
 def test_a_stiff_grouted_bolt_carries_its_capacity_at_failure():
     """The default debonded length (10 diameters) makes the bolt reach its 200 kN within 0.6 mm of
-    sliding; the FS is the active form at its capacity (measured 1.4014 against 1.4018)."""
+    sliding; the FS is the active form at its capacity (measured 1.4033 against 1.4018)."""
     result = fos_of(block_scene(grouted()))
     assert result.factor_of_safety == pytest.approx(active(200e3), rel=0.02)
     assert result.support_state[0, L.AXIAL] == pytest.approx(200e3, rel=1e-6)
@@ -265,6 +266,13 @@ def _with_support(tmp_path: Path, support: dict) -> Path:
         (grouted(bond_strength_kN_per_m=-5), ("support.0.bond_strength_kN_per_m", "greater than 0")),
         (anchor(end_m=[40.0, -20.0]), ("support.0.end_m", "longer than the model")),
         (anchor(pretension_kN=300), ("support.0.pretension_kN", "above the anchor's capacity")),
+        (
+            grouted(
+                head_m=[4 * math.cos(DIP), 4 * math.sin(DIP)], end_m=[11 * math.cos(DIP), 11 * math.sin(DIP)]
+            ),
+            ("support.0.end_m", "runs along a joint"),
+        ),
+        (anchor(bond_strength_kN_per_m=100, bond_length_m=50), ("support.0.bond_length_m", "longer than")),
     ],
 )
 def test_bad_support_is_refused_in_one_line(tmp_path, support, fragments):
@@ -339,3 +347,111 @@ def test_a_toppling_study_takes_roctopples_support_sample_by_sample():
         expected = tp.factor_of_safety(blocks, math.radians(phi), support=support, unit_weight=25e3)
         assert found[k] == pytest.approx(float(expected), rel=1e-12)
     assert found[0] > found[2]
+
+
+def test_an_anchor_between_two_held_blocks_is_refused(tmp_path):
+    scene = block_scene(anchor(head_m=[19.0, 1.0], end_m=[21.0, 1.0]))
+    scene["blocks"].append({"name": "shelf", "material": "rock", "fix": ["x", "y", "rotation"],
+                            "rectangle_m": {"x_m": 20, "y_m": 0, "width_m": 2, "height_m": 2}})  # fmt: skip
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    refused(
+        run_stage("fos", tmp_path / "out", path), tmp_path / "out", "support.0.end_m", "two blocks held still"
+    )
+
+
+def test_a_grouted_bolt_across_an_open_gap_is_refused(tmp_path):
+    """The block lifted 0.5 m off its plane (0.659 m along the bolt): the bolt would span open space."""
+    scene = block_scene(grouted())
+    scene["blocks"][1]["rectangle_m"]["y_m"] = 0.5
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    refused(
+        run_stage("fos", tmp_path / "out", path), tmp_path / "out", "support.0.end_m", "opening 0.659 m wide"
+    )
+
+
+def _two_on_an_anchor(safety: float) -> dict:
+    """Two 1 m blocks 3 m apart, pulled apart by 100 kN each and joined by a stiff anchor through their
+    centroids (k = 333 MN/m), no gravity, no damping."""
+    square = {"width_m": 1, "height_m": 1, "y_m": 0}
+    pulls = [{"block": "a", "force_kN": [-100, 0]}, {"block": "b", "force_kN": [100, 0]}]
+    tendon = {"name": "t", "type": "anchor", "head_m": [0.5, 0.5], "end_m": [3.5, 0.5], "area_mm2": 5000,
+              "steel_capacity_kN": 5000}  # fmt: skip
+    return {
+        "name": "two_on_an_anchor",
+        "gravity_m_s2": [0, 0],
+        "materials": {"rock": {"density_kg_m3": 2600}},
+        "blocks": [
+            {"name": "a", "material": "rock", "rectangle_m": {**square, "x_m": 0}},
+            {"name": "b", "material": "rock", "rectangle_m": {**square, "x_m": 3}},
+        ],
+        "joint_laws": {
+            "j": {"law": "constant", "kn_MPa_per_mm": 10, "ks_MPa_per_mm": 10, "friction_deg": 30}
+        },
+        "contacts": {"default_law": "j"},
+        "loads": {"block_forces": pulls},
+        "solver": {"steps": 5000, "damping": 0.0, "time_step": {"safety_factor": safety}},
+        "support": [tendon],
+        "monitoring": {
+            "every_steps": 1,
+            "monitors": [{"name": "t", "quantity": "bolt_force", "support": "t"}],
+        },
+    }
+
+
+def test_two_free_blocks_on_an_anchor_oscillate_as_the_closed_form_says():
+    """At the default safety factor the time step counts both masses (2 sqrt(m / 2k): before, one
+    mass, the step was sqrt 2 too long and the run blew up): the undamped anchor swings between slack
+    and twice the load, as a suddenly loaded spring does (200 kN within 1 %), and the run warns of
+    nothing."""
+    result = api.run(_two_on_an_anchor(0.5))
+    assert result.history["t_kN"].max() == pytest.approx(200.0, rel=0.01)
+    assert result.history["t_kN"].min() == pytest.approx(0.0, abs=1.0)
+    assert result.state.clock[L.DT] == pytest.approx(0.5 * 2 * math.sqrt(2600 / (2 * 200e9 * 5e-3 / 3)))
+    assert not result.warnings
+
+
+def test_a_safety_factor_above_0_7_with_support_is_warned_of():
+    """A tendon that goes slack and taut is a one-sided spring: measured, the same anchor peaks at
+    2.16 x its load at 0.7 of the critical step and at 5.5 x at 0.75, so a run above 0.7 warns."""
+    assert api.run(_two_on_an_anchor(0.7)).history["t_kN"].max() < 2.2 * 100
+    result = api.run(
+        _two_on_an_anchor(0.75) | {"solver": {"steps": 100, "time_step": {"safety_factor": 0.75}}}
+    )
+    assert any("safety_factor" in warning and "one-sided" in warning for warning in result.warnings)
+
+
+def test_a_grouted_bolt_put_in_from_the_held_side_holds_the_same():
+    """The bolt reversed (its head in the base, its end in the block): the limit equilibrium's support
+    force is the same, and so is the engine's FS (within 0.5 %)."""
+    forward, reverse = block_scene(grouted()), block_scene(grouted(head_m=END, end_m=HEAD))
+    forces = []
+    for scene in (forward, reverse):
+        model = built_scene(scene, "<bolt>")
+        problem = planar_limit_equilibrium(model)
+        forces.append(support_force_on(model, problem, "g1"))
+    assert np.allclose(forces[0], forces[1])
+    assert fos_of(reverse).factor_of_safety == pytest.approx(fos_of(forward).factor_of_safety, rel=0.005)
+
+
+def test_a_passive_design_uses_the_passive_form_in_limit_equilibrium_too():
+    """With support_form: passive the limit-equilibrium stage solves the passive form, so the engine
+    confirms its value at the first trial (before: the active form's 2,151 kN, then six more)."""
+    path = CONFIGS / "scenes" / "bolted_planar.yaml"
+    tree = yaml.safe_load(path.read_text())
+    tree["fos"]["support_form"] = "passive"
+    tree["design"]["target_fs"] = 1.3
+    result = design_support(built_scene(tree, str(path)), path)
+    engine = result.trials[result.trials["stage"] == "engine"]
+    assert len(engine) == 1 and engine["factor_of_safety"].iloc[0] >= 1.3 - 0.005
+
+
+def test_a_design_keeps_an_anchors_pretension_within_its_capacity():
+    """A bond-limited anchor (600 kN of bond, 400 kN locked off): scaling its steel capacity up does
+    not lift the pretension above what the bond holds (before: refused mid-search)."""
+    path = CONFIGS / "scenes" / "bolted_planar.yaml"
+    tree = yaml.safe_load(path.read_text())
+    tree["support"][0].update(steel_capacity_kN=1000, pretension_kN=400, bond_strength_kN_per_m=60)
+    result = design_support(built_scene(tree, str(path)), path)
+    assert result.value is None  # the bond (600 kN) cannot give FS 1.5 at any steel capacity

@@ -355,7 +355,7 @@ def fos_command(config_path: Path, results: str, strict: bool) -> None:
     )
     if outcome.progressive_note:
         click.echo(f"bbmc fos: note: {outcome.progressive_note}")
-    for line in fos_stage.support_lines(scene, result.tables["summary"]):
+    for line in fos_stage.support_summary_lines(scene, result.tables["summary"]):
         click.echo(f"bbmc fos: {line}")
     _report_written(fos_stage.NAME, out_dir, written)
 

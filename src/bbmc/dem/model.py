@@ -354,7 +354,7 @@ def build_model(scene: Scene, path: Path) -> Model:
         water_surface=_water_table(scene, path),
         water_unit_weight=water.unit_weight_kN_m3 * 1e3 if water else 0.0,
     )
-    support = support_elements(scene.support, shapes, blocks[:, [L.X, L.Y]], model.immobile, path)
+    support = support_elements(scene.support, shapes, blocks[:, [L.X, L.Y]], model.immobile, names, path)
     if scene.design is not None and scene.design.support not in support.names:
         raise scene_error(path, "design.support", f"no support element named '{scene.design.support}'")
     for k, m in enumerate(scene.monitoring.monitors):

@@ -44,7 +44,7 @@ def _elastic_plastic(stiffness, displacement, slip, capacity):
 
 
 @numba.njit(cache=True)
-def _anchor(blocks, e, support, xa, ya, xb, yb):
+def _anchor(e, support, xa, ya, xb, yb):
     """The anchor's pull on A (fx, fy) [N/m] from its ends now; updates its force and state."""
     dx, dy = xb - xa, yb - ya
     length = math.hypot(dx, dy)
@@ -106,7 +106,7 @@ def support_forces(blocks, support_blocks, support, divisor):
         xa, ya, rxa, rya = _point(blocks, a, support[e, L.AX], support[e, L.AY])
         xb, yb, rxb, ryb = _point(blocks, b, support[e, L.BX], support[e, L.BY])
         if support[e, L.KIND] == L.ANCHOR:
-            fx, fy = _anchor(blocks, e, support, xa, ya, xb, yb)
+            fx, fy = _anchor(e, support, xa, ya, xb, yb)
         else:
             fx, fy = _crossing(blocks, e, a, b, support, xa, ya, xb, yb)
         if divisor != 1.0:

@@ -95,7 +95,7 @@ def summary_table(
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 
 
-def support_lines(scene: Scene, summary: pd.DataFrame) -> list[str]:
+def support_summary_lines(scene: Scene, summary: pd.DataFrame) -> list[str]:
     """What the command prints of the support and the design (nothing for a scene without them)."""
     value = dict(zip(summary["quantity"], summary["value"], strict=True))
     lines = []

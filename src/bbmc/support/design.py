@@ -36,6 +36,7 @@ from bbmc.dem.solver import initial_state, prepare
 from bbmc.dem.strength_reduction import factor_of_safety
 from bbmc.dem.water import add_water_loads
 from bbmc.support.config import Anchor, Design, Tendon
+from bbmc.support.elements import anchor_capacity_kN
 
 PARALLEL = math.radians(1.0)  # contacts of one plane: their edges within this angle of each other
 LIMIT_EQUILIBRIUM_TOLERANCE = 1e-4  # of the value: limit equilibrium is cheap, the engine is not
@@ -55,12 +56,16 @@ class PlanarLimitEquilibrium:
     into: np.ndarray
     block: int
 
-    def factor_of_safety(self, support_force: np.ndarray) -> float:
-        """FS with a support force vector on the block [N/m] (active form; inf where nothing drives)."""
+    def factor_of_safety(self, support_force: np.ndarray, form: str = "active") -> float:
+        """FS with a support force vector on the block [N/m], in RocPlane's `form`: active,
+        (c A + (N + T_n) tan phi) / (D - T_s) (inf where nothing drives), or passive,
+        (c A + (N + T_n) tan phi + T_s) / D."""
         along = -float(support_force @ self.down)
         onto = float(support_force @ self.into)
-        driving = self.driving - along
         held = self.cohesion_force + max(self.normal + onto, 0.0) * self.tan_phi
+        if form == "passive":
+            return (held + along) / self.driving
+        driving = self.driving - along
         return held / driving if driving > 0 else math.inf
 
 
@@ -132,29 +137,38 @@ def planar_limit_equilibrium(model: Model) -> PlanarLimitEquilibrium | str:
 
 
 def support_force_on(model: Model, problem: PlanarLimitEquilibrium, name: str) -> np.ndarray:
-    """The force per metre [N/m] that element `name` puts on the free block at its capacity: its
-    capacity along its axis at each of its elements between that block and a held one."""
+    """The force per metre [N/m] that tendon `name` puts on the free block as it slides down the
+    plane, at its capacity: each of its elements on the block pulls along its axis u against the
+    slide, -T sign(down . u) u, where the slide stretches it (a grouted crossing: always, in tension
+    or compression; an anchor: when the block moves away from its other end, else it is slack)."""
     support = model.support
     force = np.zeros(2)
     for e, element in enumerate(support.names):
-        pair = support.blocks[e]
-        if element != name or problem.block not in pair:
+        a, b = support.blocks[e]
+        if element != name or problem.block not in (a, b):
             continue
-        sign = 1.0 if pair[0] == problem.block else -1.0
-        force += sign * support.support[e, L.CAP_AXIAL] * support.support[e, [L.DIR_X, L.DIR_Y]]
+        axis = support.support[e, [L.DIR_X, L.DIR_Y]]
+        slide = float(problem.down @ axis)
+        stretched = slide < 0 if a == problem.block else slide > 0
+        if support.support[e, L.KIND] == L.ANCHOR and not stretched:
+            continue
+        force -= np.sign(slide) * support.support[e, L.CAP_AXIAL] * axis
     return force
 
 
 def _varied(model: Model, design: Design, value: float, path: Path) -> Model:
     """The model with the design element's capacity or spacing set to `value` (an anchor's
-    pretension kept at the same fraction of its steel capacity)."""
+    pretension kept at the same fraction of its steel capacity, and at most its capacity)."""
 
     def changed(tendon: Tendon) -> Tendon:
         if design.vary == "spacing":
             return tendon.model_copy(update={"spacing_m": value})
         update = {"steel_capacity_kN": value}
         if isinstance(tendon, Anchor):
-            update["pretension_kN"] = tendon.pretension_kN * value / tendon.steel_capacity_kN
+            varied = tendon.model_copy(update=update)
+            update["pretension_kN"] = min(
+                tendon.pretension_kN * value / tendon.steel_capacity_kN, anchor_capacity_kN(varied)
+            )
         return tendon.model_copy(update=update)
 
     support = [changed(t) if t.name == design.support else t for t in model.scene.support]
@@ -174,10 +188,10 @@ def _search(
     passes: Callable[[float], bool], unsafe_end: float, safe_end: float, tolerance: float
 ) -> float | None:
     """The value nearest `unsafe_end` that passes, to `tolerance` of it, by bisection: `unsafe_end`
-    itself if it passes, None if `safe_end` does not."""
+    itself if it passes, None if `safe_end` does not (each end tried once)."""
     if passes(unsafe_end):
         return unsafe_end
-    if not passes(safe_end):
+    if unsafe_end == safe_end or not passes(safe_end):
         return None
     short, ok = unsafe_end, safe_end
     while abs(ok - short) > tolerance * abs(ok):
@@ -214,7 +228,9 @@ def design_support(
                 trial(
                     "limit_equilibrium",
                     v,
-                    lambda m: problem.factor_of_safety(support_force_on(m, problem, design.support)),
+                    lambda m: problem.factor_of_safety(
+                        support_force_on(m, problem, design.support), model.scene.fos.support_form
+                    ),
                 )
                 >= design.target_fs
             ),

@@ -22,6 +22,7 @@ from bbmc.support.config import Anchor, GroutedBolt
 
 DEBONDED_DIAMETERS = 10.0  # a grouted crossing's default debonded length, in bolt diameters
 INSIDE = 1e-9  # relative tolerance of "inside a block" and of a stretch's ends
+OPEN_GAP = 1e-3  # a gap between two blocks along a bolt wider than this fraction of its length is refused
 
 
 @dataclass(frozen=True)
@@ -51,58 +52,72 @@ class SupportElements:
             np.zeros((0, 2, 2)),
         )
 
-    def _mass_over_stiffness(self, blocks: np.ndarray, held: np.ndarray) -> np.ndarray:
-        """m / sum k and I / sum k r^2 of every block free to move that the support acts on [s^2], with k
-        the axial plus shear stiffness of each element on it and r its arm."""
+    def _row_sums(self, blocks: np.ndarray, held: np.ndarray, rotation: bool) -> np.ndarray:
+        """Per block, an upper bound of the squared natural frequency of the blocks on their support
+        springs alone [1/s^2] (Gershgorin's row sums): the sum over the elements on the block of
+        k (1/m_a + 1/m_b) and, with `rotation`, + k (r_a^2/I_a + r_b^2/I_b), with k the axial plus
+        shear stiffness, r the element's arm from each centroid, and the terms of a held block left
+        out (it does not move)."""
         k = self.support[:, L.K_AXIAL] + self.support[:, L.K_SHEAR]
-        translation, rotation = np.zeros(len(blocks)), np.zeros(len(blocks))
+        per_element = np.zeros(len(k))
         for side, columns in ((0, [L.AX, L.AY]), (1, [L.BX, L.BY])):
-            arm = np.hypot(*self.support[:, columns].T)
-            np.add.at(translation, self.blocks[:, side], k)
-            np.add.at(rotation, self.blocks[:, side], k * arm**2)
-        translation[held], rotation[held] = 0.0, 0.0
-        return np.concatenate(
-            [
-                blocks[translation > 0, L.MASS] / translation[translation > 0],
-                blocks[rotation > 0, L.INERTIA] / rotation[rotation > 0],
-            ]
-        )
+            b = self.blocks[:, side]
+            free = ~held[b]
+            term = 1.0 / blocks[b, L.MASS]
+            if rotation:
+                term = term + np.hypot(*self.support[:, columns].T) ** 2 / blocks[b, L.INERTIA]
+            per_element += np.where(free, term, 0.0)
+        sums = np.zeros(len(blocks))
+        for side in (0, 1):
+            np.add.at(sums, self.blocks[:, side], k * per_element)
+        sums[held] = 0.0
+        return sums
 
     def critical_time_step(self, blocks: np.ndarray, held: np.ndarray) -> float:
-        """The critical step of the blocks on their support springs alone [s]: the least of
-        2 sqrt(m / sum k) and 2 sqrt(I / sum k r^2) (inf without support). Contacts and support act on
-        the same blocks; the engine takes the smaller of this and the contacts' own critical step, which
-        can overrate the combined one by up to sqrt 2 where the two are alike (a safety factor <= 0.7
-        covers it; support is far softer than contacts in practice)."""
-        return float(2.0 * np.sqrt(self._mass_over_stiffness(blocks, held).min(initial=np.inf)))
+        """A lower bound of the critical step of the blocks on their support springs alone [s]:
+        2 / sqrt(the largest row sum of `_row_sums`, translation and rotation; inf without support).
+        Contacts and support act on the same blocks; the engine takes the smaller of this and the
+        contacts' own critical step, which can overrate the combined one by up to sqrt 2 where the two
+        are alike (the default safety factor 0.5 covers it; support is far softer than contacts in
+        practice)."""
+        largest = float(self._row_sums(blocks, held, rotation=True).max(initial=0.0))
+        return 2.0 / np.sqrt(largest) if largest > 0 else np.inf
 
     def longest_period(self, blocks: np.ndarray, held: np.ndarray) -> float:
-        """The longest natural period of a block on its support springs alone [s]: the greatest of
-        2 pi sqrt(m / sum k) and 2 pi sqrt(I / sum k r^2) (0 without support). A soft support takes
-        about this long to pick up its load: a strength-reduction trial's budget allows for it."""
-        return float(2.0 * np.pi * np.sqrt(self._mass_over_stiffness(blocks, held).max(initial=0.0)))
+        """The longest period of a free block translating on its support springs [s]: 2 pi / sqrt of
+        the least non-zero translational row sum (0 without support). A soft support takes about this
+        long to pick up its load: a strength-reduction trial's budget allows for it. (Rotation is left
+        out: the contacts that a block rests on hold its rotation, so an element near its centroid
+        would give a period no trial needs.)"""
+        sums = self._row_sums(blocks, held, rotation=False)
+        loaded = sums[sums > 0]
+        return float(2.0 * np.pi / np.sqrt(loaded.min())) if len(loaded) else 0.0
 
 
 def _stretch(shape: np.ndarray, head: np.ndarray, end: np.ndarray) -> tuple[float, float, np.ndarray]:
     """(t_in, t_out, tangent of the exit edge) of the segment head + t (end - head), 0 <= t <= 1,
-    inside a convex counter-clockwise polygon (Cyrus-Beck); t_in > t_out where it misses."""
+    inside a convex counter-clockwise polygon (Cyrus-Beck); t_in > t_out where it misses. ValueError
+    where the segment runs along one of the polygon's edges."""
     direction = end - head
     edges = np.roll(shape, -1, axis=0) - shape
     outward = np.column_stack([edges[:, 1], -edges[:, 0]])
     tolerance = INSIDE * float(np.max(np.hypot(*edges.T))) * float(np.hypot(*direction))
-    t_in, t_out, exit_edge = 0.0, 1.0, _unit(direction)
+    t_in, t_out, exit_edge, along_edge = 0.0, 1.0, _unit(direction), False
     for k in range(len(shape)):
         rate = float(outward[k] @ direction)
         gap = float(outward[k] @ (head - shape[k]))  # > 0: the head is outside edge k
         if abs(rate) <= tolerance:
             if gap > tolerance:
                 return 1.0, 0.0, exit_edge
+            along_edge = along_edge or gap > -tolerance
             continue
         t = -gap / rate
         if rate < 0:
             t_in = max(t_in, t)
         elif t < t_out:
             t_out, exit_edge = t, _unit(edges[k])
+    if along_edge and t_out - t_in > INSIDE:
+        raise ValueError("the bolt runs along a joint (in line with a block's edge), crossing none")
     return t_in, t_out, exit_edge
 
 
@@ -139,10 +154,11 @@ def support_elements(
     shapes: list[np.ndarray],
     centroids: np.ndarray,
     immobile: np.ndarray,
+    block_names: list[str],
     path: Path,
 ) -> SupportElements:
     """The elements of every tendon (module docstring); shapes are the blocks' world vertices at the
-    start [m], counter-clockwise; faults name the key `support.<k>.<field>`."""
+    start [m], counter-clockwise, `block_names` their names; faults name the key `support.<k>.<field>`."""
     if not tendons:
         return SupportElements.none()
     extent = float(np.hypot(*np.ptp(np.concatenate(shapes), axis=0)))
@@ -160,14 +176,17 @@ def support_elements(
                 f"the bolt is {tendon.length_m:.4g} m long, longer than the model ({extent:.4g} m across)",
             )
         head, end = np.array(tendon.head_m, dtype=float), np.array(tendon.end_m, dtype=float)
-        on_path = _path(shapes, head, end)
+        try:
+            on_path = _path(shapes, head, end)
+        except ValueError as error:
+            raise scene_error(path, f"{key}.end_m", str(error)) from None
         for which, t, point in (("head_m", 0.0, head), ("end_m", 1.0, end)):
             if _holding(on_path, t) is None:
                 raise scene_error(path, f"{key}.{which}", f"the point {point.tolist()} lies in no block")
         made = (
-            [_anchor_row(tendon, on_path, head, end, centroids, path, key)]
+            [_anchor_row(tendon, on_path, head, end, centroids, immobile, path, key)]
             if isinstance(tendon, Anchor)
-            else _crossing_rows(tendon, on_path, head, end, centroids, immobile, path, key)
+            else _crossing_rows(tendon, on_path, head, end, centroids, immobile, block_names, path, key)
         )
         for n, (pair, row, point) in enumerate(made):
             names.append(tendon.name)
@@ -188,12 +207,21 @@ def support_elements(
     )
 
 
+def anchor_capacity_kN(anchor: Anchor) -> float:
+    """The anchor's capacity per bolt [kN]: the weakest of its steel, plate and bond (`capacity`)."""
+    bond = anchor.bond_strength_kN_per_m
+    return float(
+        anchor_capacity(anchor.steel_capacity_kN, anchor.plate_capacity_kN, bond, anchor.bond_length_m or 0.0)
+    )
+
+
 def _anchor_row(
     anchor: Anchor,
     on_path: list,
     head: np.ndarray,
     end: np.ndarray,
     centroids: np.ndarray,
+    immobile: np.ndarray,
     path: Path,
     key: str,
 ) -> tuple[tuple[int, int], np.ndarray, np.ndarray]:
@@ -204,15 +232,16 @@ def _anchor_row(
         raise scene_error(
             path, f"{key}.end_m", "the anchor's head and end lie in one block: it holds nothing"
         )
+    if immobile[a] and immobile[b]:
+        raise scene_error(path, f"{key}.end_m", "the anchor joins two blocks held still: it holds nothing")
     length = anchor.length_m
-    capacity = float(
-        anchor_capacity(
-            anchor.steel_capacity_kN * 1e3,
-            None if anchor.plate_capacity_kN is None else anchor.plate_capacity_kN * 1e3,
-            None if anchor.bond_strength_kN_per_m is None else anchor.bond_strength_kN_per_m * 1e3,
-            anchor.bond_length_m or 0.0,
+    if (anchor.bond_length_m or 0.0) > length:
+        raise scene_error(
+            path,
+            f"{key}.bond_length_m",
+            f"{anchor.bond_length_m:g} m is longer than the anchor ({length:.4g} m)",
         )
-    )
+    capacity = anchor_capacity_kN(anchor) * 1e3
     if anchor.pretension_kN * 1e3 > capacity:
         raise scene_error(
             path,
@@ -242,11 +271,21 @@ def _crossing_rows(
     end: np.ndarray,
     centroids: np.ndarray,
     immobile: np.ndarray,
+    block_names: list[str],
     path: Path,
     key: str,
 ) -> list[tuple[tuple[int, int], np.ndarray, np.ndarray]]:
     """One element per joint the bolt crosses: between consecutive blocks on its path, at the middle
-    of the two stretches' ends (they meet on a closed joint)."""
+    of the two stretches' ends (they meet on a closed joint; a wider opening between them than
+    `OPEN_GAP` of the bolt's length is refused: a grouted bolt is not held across open space)."""
+    for (a, _, t_out, _), (b, t_in, _, _) in itertools.pairwise(on_path):
+        if t_in - t_out > OPEN_GAP:
+            raise scene_error(
+                path,
+                f"{key}.end_m",
+                f"the bolt crosses an opening {(t_in - t_out) * bolt.length_m:.3g} m wide between blocks "
+                f"'{block_names[a]}' and '{block_names[b]}': a grouted bolt is not held across open space",
+            )
     length, axis = bolt.length_m, _unit(end - head)
     debonded = bolt.debonded_length_m or DEBONDED_DIAMETERS * bolt.diameter_m
     stiffness = bolt.steel_modulus_GPa * 1e9 * bolt.area_m2 / debonded / bolt.spacing_m
