@@ -86,6 +86,8 @@ def _small(data):
     data["scaling"] = {"block_counts": [100, 300], "steps": 20, "repeats": 1, "memory_limit_GB": 4}
     data["laws"] = {"array_size": 2000, "python_loop_size": 200, "repeats": 1}
     data["engine_cost"] = {"commit": "deadbeef", "block_counts": [100], "steps": 20, "repeats": 1}
+    data["support"] |= {"commit": "deadbeef", "repeats": 1}
+    data["support"]["design_scene"] = str((CONFIGS / data["support"]["design_scene"]).resolve())
 
 
 @pytest.fixture(scope="module")
@@ -229,3 +231,15 @@ def test_bandwidth_section_writes_the_triad_on_one_and_every_thread_and_the_limi
     limit = pd.read_csv(out / "bandwidth_limit.csv")
     assert (limit["bytes_per_update"] > 320).all()
     assert np.allclose(limit["updates_per_s_limit"], limit["GB_per_s"] * 1e9 / limit["bytes_per_update"])
+
+
+def test_support_section_times_the_design_search_and_says_why_without_the_commit(tmp_path):
+    support = {"commit": "deadbeef", "block_counts": [100], "steps": 20, "repeats": 1,
+               "design_scene": str(CONFIGS / "scenes" / "bolted_planar.yaml")}  # fmt: skip
+    outcome, out = _bench(tmp_path, {"support": support})
+    assert outcome.exit_code == 0, outcome.output
+    table = pd.read_csv(out / "support_cost.csv")
+    assert table["skipped"].iloc[0].startswith("commit deadbeef not checked out")
+    design = table[table["scene"] == "design search, bolted_planar.yaml"].iloc[0]
+    assert design["design_value"] == pytest.approx(2151.0, rel=0.01)
+    assert design["engine_trials"] >= 1 and design["wall_time_s"] < 60

@@ -426,10 +426,11 @@ def bench_command(config_path: Path, results: str, strict: bool, only: str | Non
     laws.csv (ufunc vs njit vs Python), rockmass_cost.csv (a rock mass's generation, its bridges'
     cost per step), bandwidth.csv (the memory bandwidth, a STREAM triad on 1 and every thread),
     bandwidth_limit.csv (bytes per sub-contact update, the most updates/s the bandwidth carries),
+    support_cost.csv (support's cost where a scene has none; the design search's time),
     tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios. Each section of the
     config (tradeoff, economy, scaling, engine_cost, fos, mobilized, sweep, laws, rockmass,
-    bandwidth) is optional;
+    bandwidth, support) is optional;
     `bbmc bench --only scaling,engine_cost` runs those alone.
     """
     options = {} if only is None else {"only": [name.strip() for name in only.split(",")]}

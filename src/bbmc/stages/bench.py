@@ -18,6 +18,9 @@ processes and on a 2-worker dask LocalCluster, and the overhead per task (`bbmc.
 bandwidth.csv / bandwidth_limit.csv: the memory bandwidth (a STREAM triad on 1 and every thread), the
 bytes one sub-contact update moves and the most updates per second that bandwidth carries
 (`bbmc.bench.bandwidth`).
+support_cost.csv: where a scene has no support, this engine's time per step against the last commit
+before support elements; and the design search of a scene's `design:` section, its trials and wall
+time (`bbmc.bench.support_cost`).
 
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
@@ -51,6 +54,7 @@ from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.rockmass_cost import bridge_cost, rockmass_cost
 from bbmc.bench.scaling import scaling_figure, scaling_table
+from bbmc.bench.support_cost import support_cost_table
 from bbmc.bench.sweep_cost import sweep_cost_table
 from bbmc.config import ConfigError, InputFile, Section
 from bbmc.io import StageResult
@@ -68,6 +72,7 @@ SECTIONS = (
     "laws",
     "rockmass",
     "bandwidth",
+    "support",
 )
 
 
@@ -178,6 +183,17 @@ class Bandwidth(Section):
     blocks: Annotated[int, Field(ge=10, le=1_000_000)] = 10_000
 
 
+class SupportCost(Section):
+    """Where a scene has no support: this engine against the last commit before support elements;
+    and the design search of a scene with a `design:` section (`bbmc.bench.support_cost`)."""
+
+    commit: Annotated[str, Field(min_length=4, max_length=40, pattern=r"^[0-9a-fA-F]+$")]
+    block_counts: list[Annotated[int, Field(ge=10, le=1_000_000)]] = Field(min_length=1)
+    steps: Annotated[int, Field(ge=10, le=1_000_000)]
+    repeats: Repeats
+    design_scene: InputFile
+
+
 class Config(Section):
     """The paper's scenes and the sections to run (each optional, at least one given)."""
 
@@ -193,6 +209,7 @@ class Config(Section):
     laws: Laws | None = None
     rockmass: RockMassCost | None = None
     bandwidth: Bandwidth | None = None
+    support: SupportCost | None = None
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
     @model_validator(mode="after")
@@ -375,6 +392,15 @@ def bandwidth_part(config: Config, scenes: PaperScenes, progress: Callable[[str]
     return {"bandwidth": triad, "bandwidth_limit": limit}, {}
 
 
+def support_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    c = config.support
+    table = support_cost_table(
+        c.commit, c.block_counts, c.steps, c.repeats, config.slope_config, config.shear_config,
+        c.design_scene, progress,
+    )  # fmt: skip
+    return {"support_cost": table}, {}
+
+
 PARTS = {
     "tradeoff": tradeoff_part,
     "economy": economy_part,
@@ -386,6 +412,7 @@ PARTS = {
     "laws": laws_part,
     "rockmass": rockmass_part,
     "bandwidth": bandwidth_part,
+    "support": support_part,
 }
 
 
