@@ -92,7 +92,8 @@ class StrengthReductionResult:
     laws_losing_cohesion: list[
         str
     ]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
-    support_state: np.ndarray  # the support elements' rows at the end of the highest stable trial
+    # the support elements' rows at the end of the highest stable trial (none without support)
+    support_state: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, L.SUPPORT_COLUMNS)))
 
     @property
     def progressive_note(self) -> str:
