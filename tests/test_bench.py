@@ -14,6 +14,7 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
+from bbmc.bench.bandwidth import bandwidth_fraction, bytes_per_update, gather_bytes
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.paper_scenes import Reading, ShearScene, SlopeScene, relative_error
@@ -85,6 +86,8 @@ def _small(data):
     data["scaling"] = {"block_counts": [100, 300], "steps": 20, "repeats": 1, "memory_limit_GB": 4}
     data["laws"] = {"array_size": 2000, "python_loop_size": 200, "repeats": 1}
     data["engine_cost"] = {"commit": "deadbeef", "block_counts": [100], "steps": 20, "repeats": 1}
+    data["support"] |= {"commit": "deadbeef", "repeats": 1}
+    data["support"]["design_scene"] = str((CONFIGS / data["support"]["design_scene"]).resolve())
 
 
 @pytest.fixture(scope="module")
@@ -207,3 +210,36 @@ def test_a_section_that_cannot_run_is_refused_in_one_line(tmp_path, sections, on
     for fragment in fragments:
         assert fragment in lines[0], lines[0]
     assert not out.exists()
+
+
+def test_bytes_per_update_add_up_the_rows_a_sub_contact_update_streams():
+    """16 float64 columns read and written (256 B), a quarter of a contact's 5 int64 columns (10 B),
+    an eighth of a block's 28 float64 columns read and written (56 B) and of its 4 vertices' local
+    and world coordinates (16 B); the gathers of 2 blocks' rows and 2 vertices each: 512 B / 4."""
+    assert bytes_per_update(4, 8.0, 4.0) == 256 + 10 + 56 + 16
+    assert gather_bytes(4) == 128
+    assert bandwidth_fraction(50e6, 400.0, 40.0) == pytest.approx(0.5)
+
+
+def test_bandwidth_section_writes_the_triad_on_one_and_every_thread_and_the_limit(tmp_path):
+    bandwidth = {"array_MB": 2, "repeats": 1, "blocks": 100}
+    outcome, out = _bench(tmp_path, {"bandwidth": bandwidth})
+    assert outcome.exit_code == 0, outcome.output
+    triad = pd.read_csv(out / "bandwidth.csv")
+    assert list(triad.columns) == ["threads", "array_MB", "GB_per_s", "repeats"]
+    assert triad["threads"].iloc[0] == 1 and (triad["GB_per_s"] > 0).all()
+    limit = pd.read_csv(out / "bandwidth_limit.csv")
+    assert (limit["bytes_per_update"] > 320).all()
+    assert np.allclose(limit["updates_per_s_limit"], limit["GB_per_s"] * 1e9 / limit["bytes_per_update"])
+
+
+def test_support_section_times_the_design_search_and_says_why_without_the_commit(tmp_path):
+    support = {"commit": "deadbeef", "block_counts": [100], "steps": 20, "repeats": 1,
+               "design_scene": str(CONFIGS / "scenes" / "bolted_planar.yaml")}  # fmt: skip
+    outcome, out = _bench(tmp_path, {"support": support})
+    assert outcome.exit_code == 0, outcome.output
+    table = pd.read_csv(out / "support_cost.csv")
+    assert table["skipped"].iloc[0].startswith("commit deadbeef not checked out")
+    design = table[table["scene"] == "design search, bolted_planar.yaml"].iloc[0]
+    assert design["design_value"] == pytest.approx(2151.0, rel=0.01)
+    assert design["engine_trials"] >= 1 and design["wall_time_s"] < 60

@@ -20,7 +20,8 @@ from types import ModuleType
 
 import click
 
-from bbmc import __version__
+from bbmc import __version__, kernel_cache
+from bbmc import warmup as warmup_module
 from bbmc.config import ConfigError, load_config
 from bbmc.dem.scene import Scene
 from bbmc.dem.solver import SimulationError
@@ -351,7 +352,8 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
       bbmc fos configs/scenes/planar_crack.yaml
     writes results/fos/<scene name>/fos.csv (every trial: F, verdict, steps, largest displacement,
     wall time), summary.csv (factor_of_safety, trials, time), mechanism.png, bracketing.png,
-    provenance.json. Each trial is reported on stderr once the search has lasted 2 s.
+    provenance.json; with support, also without it and support.csv; with a design: section,
+    design.csv. Each trial is reported on stderr once the search has lasted 2 s.
     """
     with _reported(fos_stage.NAME, strict):
         scene = _with_threads(load_config(config_path, fos_stage.Config), threads)
@@ -372,6 +374,8 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
     )
     if outcome.progressive_note:
         click.echo(f"bbmc fos: note: {outcome.progressive_note}")
+    for line in fos_stage.support_summary_lines(scene, result.tables["summary"]):
+        click.echo(f"bbmc fos: {line}")
     _report_written(fos_stage.NAME, out_dir, written)
 
 
@@ -438,9 +442,14 @@ def bench_command(config_path: Path, results: str, strict: bool, only: str | Non
     verification factor of safety: error, trials, wall time, and its change with one solver setting),
     mobilized_cost.csv (the full Barton-Bandis law's update cost and update schedules), sweep_cost.csv
     (sweep throughput, speed-up on 2 processes and a LocalCluster, task overhead),
-    laws.csv (ufunc vs njit vs Python), tradeoff.png, scaling.png, provenance.json.
+    laws.csv (ufunc vs njit vs Python), rockmass_cost.csv (a rock mass's generation, its bridges'
+    cost per step), bandwidth.csv (the memory bandwidth, a STREAM triad on 1 and every thread),
+    bandwidth_limit.csv (bytes per sub-contact update, the most updates/s the bandwidth carries),
+    support_cost.csv (support's cost where a scene has none; the design search's time),
+    tradeoff.png, scaling.png, provenance.json.
     Takes minutes; wall times depend on the machine: compare the ratios. Each section of the
-    config (tradeoff, economy, scaling, engine_cost, fos, mobilized, sweep, laws) is optional;
+    config (tradeoff, economy, scaling, engine_cost, fos, mobilized, sweep, laws, rockmass,
+    bandwidth, support) is optional;
     `bbmc bench --only scaling,engine_cost` runs those alone.
     """
     options = {} if only is None else {"only": [name.strip() for name in only.split(",")]}
@@ -499,3 +508,39 @@ def shear_command(config_path: Path, results: str, strict: bool, quick: bool) ->
         out_dir = Path(results) / name
         written = write_stage(out_dir, result, provenance(name, config_path, settings) | {"quick": quick})
     _report_written(name, out_dir, written)
+
+
+@main.command(name="warmup")
+def warmup_command() -> None:
+    """Compile the block engine's and the joint laws' kernels into numba's cache, so that the first
+    `bbmc run` after an install or an update loads them (seconds) instead of compiling them (about
+    20 s). `make` runs it once after installing. A second call compiles nothing and takes seconds.
+
+    \b
+    Example:
+      bbmc warmup
+    runs two small built-in scenes and one factor of safety through the engine and calls every law's
+    ufunc once; says which part it is at on stderr, then how many kernels it compiled (or loaded from
+    the cache) and the seconds it took. Writes nothing but numba's cache (~/.cache/bbmc/numba/).
+    """
+    if kernel_cache.jit_disabled():
+        click.echo("bbmc warmup: NUMBA_DISABLE_JIT is set: nothing to compile")
+        return
+    with _reported("warmup"):
+        done = warmup_module.warm(lambda part: click.echo(f"bbmc warmup: {part}...", err=True))
+    where = f"the cache {done.folder}"
+    if not done.cached:  # the keyed cache could not be made and numba keeps its files elsewhere, or nowhere
+        click.echo(
+            f"bbmc warmup: ran in {done.seconds:.1f} s, but found no compiled kernel in {done.folder}: "
+            "numba keeps them elsewhere or not at all"
+        )
+    elif done.compiled:
+        click.echo(
+            f"bbmc warmup: compiled {done.compiled} kernels into {where} in {done.seconds:.1f} s; "
+            "the next run loads them from it"
+        )
+    else:
+        click.echo(
+            f"bbmc warmup: nothing to compile: every kernel loaded from {where} ({done.cached} in it), "
+            f"{done.seconds:.1f} s"
+        )

@@ -127,12 +127,17 @@ def engine_is_cold(folder: Path) -> bool:
     return not any(folder.glob(f"*/kernels.cycle-*.{version}.nbi"))
 
 
+def jit_disabled() -> bool:
+    """True when NUMBA_DISABLE_JIT is set (to anything but 0): the kernels run as plain Python."""
+    return os.environ.get("NUMBA_DISABLE_JIT", "0") != "0"
+
+
 def announce_engine_compile() -> None:
     """Say once per process, on stderr, that the block engine is about to be compiled, when its cache
     is cold (after an install or an update); nothing otherwise, nor with NUMBA_DISABLE_JIT=1."""
     global _announced
     folder = os.environ.get("NUMBA_CACHE_DIR")
-    if _announced or not folder or os.environ.get("NUMBA_DISABLE_JIT", "0") != "0":
+    if _announced or not folder or jit_disabled():
         return
     _announced = True
     if engine_is_cold(Path(folder)):

@@ -180,6 +180,42 @@ RANGES: tuple[Range, ...] = (
         "100 MPa is the weight of 4 km of rock at 25 kN/m^3",
         (KPA_AS_MPA,),
     ),
+    Range(
+        ("steel_capacity_kN", "plate_capacity_kN", "shear_capacity_kN"), 10, 20000, "kN",
+        "a rock bolt's, cable's or anchor's capacity or load, per tendon",
+        "Hoek, Kaiser & Bawden (1995, ch. 12): a 16 mm rebar about 100 kN, a 25 mm one about 250 kN, a "
+        "15.2 mm strand 260 kN; multi-strand anchors reach a few MN",
+        (Slip("N typed as kN", _scaled(1e-3)), Slip("MN typed as kN", _scaled(1e3)),
+         Slip("tonnes-force typed as kN", _scaled(G))),
+    ),
+    Range(
+        ("pretension_kN",), 0, 20000, "kN", "an anchor's lock-off load", "as steel_capacity_kN",
+        (Slip("N typed as kN", _scaled(1e-3)), Slip("MN typed as kN", _scaled(1e3))),
+    ),
+    Range(
+        ("support.spacing_m",), 0.3, 20, "m", "the out-of-plane spacing of bolts or anchors",
+        "bolts at 1-3 m, anchors at 2-6 m in practice (Wyllie & Mah 2004, ch. 14)", (MM_AS_M,),
+    ),
+    Range(
+        ("diameter_mm",), 10, 150, "mm", "a bolt's bar (or an anchor's tendon) diameter",
+        "rock bolts 16-40 mm, bars to about 75 mm (Hoek, Kaiser & Bawden 1995, ch. 12)",
+        (Slip("m typed as mm", _scaled(1e3)),),
+    ),
+    Range(
+        ("area_mm2",), 50, 20000, "mm^2", "a tendon's steel area",
+        "a 16 mm bar 200 mm^2; a 15.2 mm strand 140 mm^2, anchors of up to about 55 strands",
+        (Slip("m^2 typed as mm^2", _scaled(1e6)), Slip("cm^2 typed as mm^2", _scaled(100))),
+    ),
+    Range(
+        ("bond_strength_kN_per_m",), 10, 3000, "kN/m", "the grout-rock bond of a tendon per metre",
+        "Hoek, Kaiser & Bawden (1995) and Wyllie & Mah (2004, ch. 14): a few hundred kN per metre for "
+        "bolts and anchors in rock",
+        (Slip("kN/mm typed as kN/m", _scaled(1e3)), Slip("N/m typed as kN/m", _scaled(1e-3))),
+    ),
+    Range(
+        ("steel_modulus_GPa",), 150, 220, "GPa", "the Young's modulus of bolt or strand steel",
+        "steel 195-210 GPa; strand about 195 GPa", (Slip("MPa typed as GPa", _scaled(1e-3)),),
+    ),
 )  # fmt: skip
 
 

@@ -1,7 +1,8 @@
 """Figures of a block run: the blocks before and after, and the monitored histories; of a factor of
 safety: its mechanism and its trials. The loads beyond gravity are drawn where a scene has them: the
 phreatic surface as a blue line (level beyond its end points, as the engine extends it) and the
-pseudo-static seismic load as an arrow above the blocks, labelled with its k_h."""
+pseudo-static seismic load as an arrow above the blocks, labelled with its k_h; bolts and anchors as
+lines coloured by their axial load (kN per bolt; ruptured ones dotted)."""
 
 from __future__ import annotations
 
@@ -14,13 +15,15 @@ matplotlib.use("Agg")
 import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
-from matplotlib.collections import PolyCollection
+from matplotlib.collections import LineCollection, PolyCollection
+from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 from bbmc.dem.monitors import UNITS
 from bbmc.dem.strength_reduction import StrengthReductionResult
+from bbmc.support.report import per_bolt_kN, support_lines
 
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
 
@@ -88,9 +91,35 @@ def draw_loads(ax: Axes, model: Model, points: np.ndarray) -> None:
         )
 
 
-def scene_figure(model: Model, initial: np.ndarray, final: np.ndarray, dof: np.ndarray, dpi: int) -> Figure:
+def draw_support(ax: Axes, model: Model, blocks: np.ndarray, support: np.ndarray) -> None:
+    """The support elements at the blocks' positions, coloured by axial load, with a colour bar up
+    to the largest capacity."""
+    lines, axial = support_lines(model.support, blocks, support)
+    broken = support[:, L.BROKEN] > 0
+    top = max(float(np.max(per_bolt_kN(model.support, support[:, L.CAP_AXIAL]), initial=0.0)), 1e-9)
+    drawn = LineCollection(
+        lines,
+        array=axial,
+        cmap="viridis",
+        norm=Normalize(0.0, top),
+        linewidths=2.5,
+        linestyles=np.where(broken, ":", "-").tolist(),
+    )
+    ax.add_collection(drawn)
+    ax.figure.colorbar(drawn, ax=ax, shrink=0.7, label="axial load [kN per bolt] (top: largest capacity)")
+
+
+def scene_figure(
+    model: Model,
+    initial: np.ndarray,
+    final: np.ndarray,
+    dof: np.ndarray,
+    dpi: int,
+    support: tuple[np.ndarray, np.ndarray] | None = None,
+) -> Figure:
     """Block outlines at the start (dashed) and the end (solid); blocks with every degree of freedom
-    fixed or prescribed are shaded; the water and seismic loads as `draw_loads` draws them."""
+    fixed or prescribed are shaded; the water and seismic loads as `draw_loads` draws them; with
+    `support` (the blocks' rows and the support's at the end), the bolts as `draw_support` draws them."""
     fig = Figure(figsize=(8, 6), dpi=dpi, layout="constrained")
     ax = fig.subplots()
     held = np.all(dof == L.PRESCRIBED, axis=1)
@@ -117,6 +146,8 @@ def scene_figure(model: Model, initial: np.ndarray, final: np.ndarray, dof: np.n
     both = np.vstack([initial, final])
     _frame(ax, model, both)
     draw_loads(ax, model, both)
+    if support is not None and len(model.support.names):
+        draw_support(ax, model, *support)
     ax.set_title(f"{model.scene.name or 'scene'}: {len(model.block_names)} blocks")
     fig.legend(loc="outside lower center", ncols=3, fontsize="small")
     return fig

@@ -28,6 +28,7 @@ from bbmc.dem.layout import (
     TIME,
 )
 from bbmc.dem.motion import apply_loads, move_blocks
+from bbmc.dem.support import support_forces
 from bbmc.dem.time_step import set_time_step
 from bbmc.dem.water import add_water_loads
 
@@ -98,6 +99,9 @@ def cycle(
     water_unit_weight,
     dry_edges,
     bridges,
+    support_blocks,
+    support,
+    support_divisor,
     damping,
     search_distance,
     time_step_mode,
@@ -112,7 +116,9 @@ def cycle(
 
     Water pressure (`water_surface`, `water_unit_weight`; `bbmc.dem.water`) is added to the loads, on
     every edge but the `dry_edges` of intact rock; with `bridges` (the scene has intact rock that breaks
-    into a joint) each step ends with `break_bridges`.
+    into a joint) each step ends with `break_bridges`. The `support` elements (anchors, grouted-bolt
+    crossings; `bbmc.dem.support`) pull on their blocks before the contact forces, with the part along
+    their joint divided by `support_divisor` (1 but in a strength reduction of the support).
     time_step_mode: 0 automatic (safety x critical, recomputed after each law update), 1 fixed (the
     run stops with STEP_ABOVE_CRITICAL once the fixed step exceeds the critical one), 2 density
     scaling (fixed step, inertial masses rescaled after each law update). The laws are updated every
@@ -161,6 +167,8 @@ def cycle(
         add_water_loads(
             blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight, dry_edges
         )
+        if support.shape[0]:
+            support_forces(blocks, support_blocks, support, support_divisor)
         contact_forces(
             blocks,
             world,

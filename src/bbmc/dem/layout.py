@@ -51,10 +51,7 @@ SUB_COLUMNS = 16  # 128 bytes a row: every step reads and writes each row whole 
 # --- sub-contacts' law state: float64 (n_contacts * n_sub, LAW_STATE_COLUMNS), rows as `subs` -------
 # read by the law updates and the mobilized law's dilation only, so a step of the other scenes does not
 # move them through memory (written in the step only where a share slips or breaks)
-LAW_SN, LAW_TAU = (
-    0,
-    1,
-)  # the stresses the joint laws were last evaluated at (nan: evaluate at the next update)
+LAW_SN, LAW_TAU = 0, 1  # the stresses the laws were last evaluated at (nan: evaluate at the next update)
 LAW_PATH = 2  # PATH when the joint laws were last evaluated [m]
 TAN_DILATION = 3  # tan of the mobilized dilation angle at the last law update [1]
 LAW_STATE_COLUMNS = 4
@@ -113,6 +110,25 @@ PARAMETERS = 29
 # NORMAL_BANDIS: P_K_NI [Pa/m] and P_V_M [m], the closure hyperbola's initial stiffness and maximum closure
 # P_STRENGTH_DIVISOR: strength reduction (`bbmc fos`): a sub-contact's shear strength c + sigma_n tan(phi)
 # and its tensile strength are divided by it; 1 for every scene that `bbmc run` runs
+
+# --- support elements: int64 (n_elements, 2) the two blocks, and float64 (n_elements, SUPPORT_COLUMNS) --
+# An element joins a point of block A to a point of block B: an anchor's head and end, or a grouted
+# bolt's two sides of one joint it crosses (`bbmc.dem.support`). Forces are per metre run [N/m].
+ANCHOR, GROUTED = 0.0, 1.0  # KIND
+KIND = 0
+AX, AY, BX, BY = 1, 2, 3, 4  # the two points in their blocks' frames (from the centroid, unrotated) [m]
+DIR_X, DIR_Y = 5, 6  # grouted: the bolt's axis at the start [1]
+PLANE_X, PLANE_Y = 7, 8  # the joint it crosses: its tangent in A's frame (passive reduction) [1]
+K_AXIAL, K_SHEAR = 9, 10  # stiffness [N/m per m]
+PRETENSION = 11  # anchor [N/m]
+CAP_AXIAL, CAP_SHEAR = 12, 13  # capacity [N/m]; CAP_SHEAR 0: no shear spring
+FREE_LENGTH = 14  # anchor: its length at the start; grouted: the debonded length [m]
+RUPTURE = 15  # elongation at rupture over FREE_LENGTH [1]
+AXIAL, SHEAR = 16, 17  # force now, tension > 0 [N/m]
+SLIP_AXIAL, SLIP_SHEAR = 18, 19  # plastic displacement [m]
+BROKEN = 20  # 1 once ruptured (carries nothing after)
+YIELDED = 21  # 1 once it has reached its capacity
+SUPPORT_COLUMNS = 22
 
 # --- run clock: float64 (CLOCK_COLUMNS,) ------------------------------------------------------------
 STEP, TIME, DT, SINCE_UPDATE = 0, 1, 2, 3

@@ -6,6 +6,7 @@ indices; anything a scene refers to that does not exist is a `ConfigError` namin
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,6 +34,7 @@ from bbmc.dem.scene import (
     scene_error,
 )
 from bbmc.rockmass.profile import crack_water_table
+from bbmc.support.elements import SupportElements, support_elements
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 
@@ -47,6 +49,7 @@ class MonitorSpec:
     point: np.ndarray | None
     groups: tuple[int, int] | None
     near: np.ndarray | None
+    support: str | None = None  # bolt_force: the support element's name
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,8 @@ class Model:
     water_unit_weight: float  # [N/m^3]; 0: no water
     edge_label: np.ndarray  # per edge (vertex index): its label's index in label_names ('' for none)
     label_names: list[str]
+    support: SupportElements = field(default_factory=SupportElements.none)
+    support_divisor: float = 1.0  # > 1: strength reduction of the support too (`bbmc.dem.support`)
     economy: Economy = field(default_factory=Economy)
 
     @property
@@ -318,7 +323,7 @@ def build_model(scene: Scene, path: Path) -> Model:
     margin = contacts.search_margin_m or 0.02 * float(np.median(sizes))
     monitors = _monitors(scene, seen, group_names, path)
     water = scene.water
-    return Model(
+    model = Model(
         scene=scene,
         block_names=names,
         group_names=group_names,
@@ -349,6 +354,15 @@ def build_model(scene: Scene, path: Path) -> Model:
         water_surface=_water_table(scene, path),
         water_unit_weight=water.unit_weight_kN_m3 * 1e3 if water else 0.0,
     )
+    support = support_elements(scene.support, shapes, blocks[:, [L.X, L.Y]], model.immobile, names, path)
+    if scene.design is not None and scene.design.support not in support.names:
+        raise scene_error(path, "design.support", f"no support element named '{scene.design.support}'")
+    for k, m in enumerate(scene.monitoring.monitors):
+        if m.support is not None and m.support not in support.names:
+            raise scene_error(
+                path, f"monitoring.monitors.{k}.support", f"no support element named '{m.support}'"
+            )
+    return dataclasses.replace(model, support=support)
 
 
 def _gravity(scene: Scene) -> np.ndarray:
@@ -404,4 +418,5 @@ def _monitor_spec(
         point=np.array(m.point_m) if m.point_m is not None else None,
         groups=groups,
         near=np.array(m.near_m) if m.near_m is not None else None,
+        support=m.support,
     )

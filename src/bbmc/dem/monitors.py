@@ -19,6 +19,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.contact_geometry import contact_frame
 from bbmc.dem.model import Model, MonitorSpec
 from bbmc.dem.scene import JOINT_QUANTITIES
+from bbmc.support.report import largest_loads
 
 UNITS = {
     "ux": ("mm", 1 / units.mm),
@@ -40,6 +41,7 @@ UNITS = {
     "strain_energy": ("J", 1.0),
     "potential_energy": ("J", 1.0),
     "unbalanced_force_ratio": ("1", 1.0),
+    "bolt_force": ("kN", 1.0),
 }
 SUB_COLUMN = {
     "sigma_n": L.SN,
@@ -217,6 +219,8 @@ def _block_or_system_value(spec: MonitorSpec, model: Model, state, reference_for
         return b[spec.block, L.VX if q == "vx" else L.VY]
     if q == "rotation":
         return b[spec.block, L.TH]
+    if q == "bolt_force":
+        return largest_loads(model.support, state.support)[spec.support]
     if q == "kinetic_energy":
         return thickness * kinetic_energy(b)
     if q == "potential_energy":

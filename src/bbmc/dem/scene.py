@@ -19,6 +19,7 @@ from bbmc.dem.polygons import MAX_BLOCKS
 from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
 from bbmc.rockmass.config import RockMassConfig
+from bbmc.support.config import Design, SupportElement
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
 Names = Annotated[list[str], Field(min_length=2, max_length=2)]
@@ -344,15 +345,15 @@ JOINT_QUANTITIES = (
 )  # fmt: skip
 GLOBAL_QUANTITIES = ("kinetic_energy", "strain_energy", "potential_energy", "unbalanced_force_ratio")
 Quantity = Literal[
-    "ux", "uy", "vx", "vy", "rotation",
+    "ux", "uy", "vx", "vy", "rotation", "bolt_force",
     "sigma_n", "tau", "kn", "ks", "cohesion", "friction", "us", "un", "dilation", "shear_path",
     "kinetic_energy", "strain_energy", "potential_energy", "unbalanced_force_ratio",
 ]  # fmt: skip
 
 
 class Monitor(Section):
-    """A block (block, optional point_m), a joint (between two groups, or the sub-contact near_m) or
-    the whole system."""
+    """A block (block, optional point_m), a joint (between two groups, or the sub-contact near_m), a
+    support element (`bolt_force`: its largest axial force, kN per bolt) or the whole system."""
 
     name: Annotated[str, Field(min_length=1)]
     quantity: Quantity
@@ -360,9 +361,16 @@ class Monitor(Section):
     point_m: Pair | None = None
     between: Names | None = None
     near_m: Pair | None = None
+    support: str | None = None
 
     @model_validator(mode="after")
     def _target(self) -> Monitor:
+        if (self.quantity == "bolt_force") != (self.support is not None):
+            raise ValueError("give support (an element's name) for bolt_force, and only for it")
+        if self.quantity == "bolt_force":
+            if any(v is not None for v in (self.block, self.point_m, self.between, self.near_m)):
+                raise ValueError("'bolt_force' is a support quantity: give support only")
+            return self
         if self.quantity in BLOCK_QUANTITIES:
             if self.block is None or self.between is not None or self.near_m is not None:
                 raise ValueError(f"'{self.quantity}' is a block quantity: give block (and point_m)")
@@ -416,6 +424,7 @@ class StrengthReduction(Section):
     check_every_steps: Annotated[int, Field(ge=1)] = 100
     trend_window_multiple: Annotated[float, Field(gt=0)] = 1.0  # a trial's trend windows x equilibrium steps
     largest_factor: Annotated[float, Field(gt=1)] = 20.0  # the bracket is sought in [1 / it, it]
+    support_form: Literal["active", "passive"] = "active"  # passive: the support's force along its joint / F
 
 
 class Monitoring(Section):
@@ -438,6 +447,8 @@ class Scene(Section):
     water: Water | None = None
     seismic: Seismic | None = None
     fos: StrengthReduction = StrengthReduction()
+    support: list[SupportElement] = Field(default_factory=list)  # bolts, anchors (docs/how-to/support.md)
+    design: Design | None = None  # `bbmc fos`: the support that reaches a target FS
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
 

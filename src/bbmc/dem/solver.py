@@ -31,6 +31,8 @@ from bbmc.dem.verdict import Trend
 from bbmc.kernel_cache import announce_engine_compile
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
+SLACK_SAFETY = 0.7  # a run with support warns above it: measured, an anchor that goes slack under a
+# sudden load (two free blocks, undamped) peaks at 2.16 x its load at 0.7 and 5.5 x at 0.75
 RUNAWAY_FRACTION = 0.1  # a block moving this fraction of its size in one step: the run is lost (an
 # unstable time step grows without bound; a block this fast skips through contacts either way)
 
@@ -58,6 +60,7 @@ class State:
     immobile: np.ndarray  # blocks held still for the whole run (`Model.immobile`)
     moving: np.ndarray  # blocks whose motion the cycle computes (all, unless held ones are skipped)
     dry_edges: np.ndarray  # edges of intact rock that joint water does not reach (until it breaks)
+    support: np.ndarray  # the support elements' rows (`layout`'s support columns), forces and state
     threads: int = 1  # numba threads of the cycle (`kernels.thread_count`)
     # each contact's force and moments, and each block's contacts (`kernels.block_contacts_of`): the
     # threaded cycle's assembly, set at each contact search when threaded
@@ -105,6 +108,7 @@ def initial_state(model: Model) -> State:
         immobile=immobile,
         moving=~immobile if model.economy.skip_held_blocks else np.ones(len(blocks), dtype=bool),
         dry_edges=np.zeros(len(model.local), dtype=bool),
+        support=model.support.support.copy(),
         threads=kernels.thread_count(model.scene.solver.threads),
     )
 
@@ -116,7 +120,7 @@ def _set_time_step(model: Model, state: State) -> None:
         *_stiffness(model, state),
         TIME_STEP_MODES[ts.mode],
         ts.safety_factor,
-        ts.step_s or math.inf,
+        largest_time_step(model),
         model.scene.solver.damping,
     )
     if status == L.STEP_ABOVE_CRITICAL:
@@ -135,6 +139,23 @@ def _set_time_step(model: Model, state: State) -> None:
                 f"(interpenetration {now:.3g} of a block's size); likely cause: joints too soft for the load"
             )
     _note_time_step(state)
+
+
+def largest_time_step(model: Model) -> float:
+    """The upper limit of the time step [s]: the scene's step_s (auto: its upper limit; fixed and
+    density scaling: the step), and with support elements, safety x their own critical step
+    (`SupportElements.critical_time_step`); a fixed step above that is refused."""
+    ts = model.scene.solver.time_step
+    support = model.support.critical_time_step(model.blocks, model.immobile)
+    if ts.mode == "auto":
+        return min(ts.step_s or math.inf, ts.safety_factor * support)
+    if ts.step_s > support:
+        raise SimulationError(
+            f"key 'solver.time_step.step_s': the fixed time step {ts.step_s:.3g} s is above the critical "
+            f"step of the blocks on their support springs ({support:.3g} s); lower it or use mode auto",
+            bad_input=True,
+        )
+    return ts.step_s
 
 
 def _note_time_step(state: State) -> None:
@@ -157,7 +178,11 @@ def _stiffness(model: Model, state: State) -> tuple:
 
 
 def _critical(model: Model, state: State) -> float:
-    return time_step.critical_time_step(*_stiffness(model, state), model.scene.solver.damping)
+    """The critical step [s]: the contacts', or the support's where that is smaller."""
+    return min(
+        time_step.critical_time_step(*_stiffness(model, state), model.scene.solver.damping),
+        model.support.critical_time_step(model.blocks, state.immobile),
+    )
 
 
 def _above_critical(model: Model, state: State) -> None:
@@ -314,11 +339,14 @@ def _cycles(model: Model, state: State, n_steps: int) -> int:
             model.water_unit_weight,
             state.dry_edges,
             model.has_bridges,
+            model.support.blocks,
+            state.support,
+            model.support_divisor,
             solver.damping,
             model.search_margin,
             TIME_STEP_MODES[ts.mode],
             ts.safety_factor,
-            ts.step_s or math.inf,
+            largest_time_step(model),
             threaded,
             state.per_contact,
             state.block_start,
@@ -342,6 +370,12 @@ def simulate(
     the state).
     """
     solver, warnings = model.scene.solver, []
+    if len(model.support.names) and solver.time_step.safety_factor > SLACK_SAFETY:
+        warnings.append(
+            f"key 'solver.time_step.safety_factor': {solver.time_step.safety_factor:g} with support: a "
+            "tendon that goes slack and taut is a one-sided spring, which the explicit step keeps stable "
+            f"only up to about {SLACK_SAFETY:g} of the critical step"
+        )
     state = prepare(model)
     reference = mon.reference_force(model)
     joints = mon.JointMonitors.of(model)

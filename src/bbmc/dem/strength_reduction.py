@@ -29,6 +29,16 @@ reported as that bound, not bracketed. In the `phi_b_jrc` mode the tensile stren
 joints is divided by F on the trial's sub-contacts, as the divisor does for the other joints. The
 stiffness laws keep reading the unreduced strength (tau_p in the Bandis K_s): the path changes, not
 the limit.
+
+Support elements (`bbmc.dem.support`) are not reduced by default (``support_form: active``): at failure
+the joints' reduced strength and the support's full force hold the block, RocPlane's *active* form,
+whatever the bolt: (c A + (N + T sin theta) tan phi) / F + T cos theta = W sin psi for a planar block.
+With ``support_form: passive`` the part of each element's force along the joint it crosses is divided
+by F as well, RocPlane's *passive* form: (c A + (N + T sin theta) tan phi + T cos theta) / F = W sin
+psi. A grouted bolt's force grows with the displacement across its joint, so its share at failure is
+what it carries once a trial's blocks have moved `failure_displacement_m` (docs/how-to/support.md);
+a trial's budget and trend windows are counted from the support's longest natural period where that is
+longer than the equilibrium's steps.
 """
 
 from __future__ import annotations
@@ -82,6 +92,8 @@ class StrengthReductionResult:
     laws_losing_cohesion: list[
         str
     ]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
+    # the support elements' rows at the end of the highest stable trial (none without support)
+    support_state: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, L.SUPPORT_COLUMNS)))
 
     @property
     def progressive_note(self) -> str:
@@ -122,6 +134,7 @@ def copy_state(state: State) -> State:
         contacts=state.contacts.copy(),
         subs=state.subs.copy(),
         law_state=state.law_state.copy(),
+        support=state.support.copy(),
         dt_range=list(state.dt_range),
     )
 
@@ -162,8 +175,8 @@ def settle(
     return UNSTABLE, "not_settled"
 
 
-def _with_params(model: Model, params: np.ndarray) -> Model:
-    return dataclasses.replace(model, params=params)
+def _with_params(model: Model, params: np.ndarray, support_divisor: float = 1.0) -> Model:
+    return dataclasses.replace(model, params=params, support_divisor=support_divisor)
 
 
 def _equilibrium(
@@ -199,6 +212,14 @@ def failure_displacement(model: Model) -> float:
     return given if given is not None else 0.05 * float(np.median(sizes))
 
 
+def _support_response_steps(model: Model, state: State) -> int:
+    """The steps of the longest natural period of a block on its support (`SupportElements.
+    longest_period`; 0 without support): a trial's budget and trend windows are counted from the larger
+    of it and the equilibrium's steps, so that a soft support has the time to pick up its load."""
+    period = model.support.longest_period(model.blocks, model.immobile)
+    return math.ceil(period / state.clock[L.DT]) if period > 0 else 0
+
+
 def factor_of_safety(
     model: Model, progress: Callable[[str], None] = lambda _: None
 ) -> StrengthReductionResult:
@@ -208,16 +229,21 @@ def factor_of_safety(
     reference = mon.reference_force(model)
     progress("equilibrium with the strengths as given")
     start, equilibrium, n_r, eq_seconds = _equilibrium(model, settings, failure, reference)
-    budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * n_r))
-    window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * n_r))
+    response = max(n_r, _support_response_steps(model, equilibrium))
+    budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * response))
+    window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * response))
     progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
     trials: list[Trial] = []
-    mechanism = None
+    mechanism, held = None, equilibrium.support.copy()
 
     def attempt(factor: float) -> bool:
-        nonlocal mechanism
+        nonlocal mechanism, held
         state = copy_state(equilibrium)
-        trial_model = _with_params(model, reduced_params(model, factor, settings.barton_bandis_reduction))
+        trial_model = _with_params(
+            model,
+            reduced_params(model, factor, settings.barton_bandis_reduction),
+            factor if settings.support_form == "passive" else 1.0,
+        )
         if settings.barton_bandis_reduction == "phi_b_jrc" and trial_model.variable_laws:
             state.law_state[:, L.LAW_SN] = math.nan  # the envelope changed: re-evaluate every sub-contact
             joint_state.update_joint_laws(
@@ -250,6 +276,8 @@ def factor_of_safety(
         )
         if verdict == UNSTABLE and all(t.factor >= factor for t in trials if t.verdict == UNSTABLE):
             mechanism = state.world.copy()
+        if verdict == STABLE and all(t.factor <= factor for t in trials if t.verdict == STABLE):
+            held = state.support.copy()
         return verdict == STABLE
 
     largest = settings.largest_factor
@@ -279,4 +307,5 @@ def factor_of_safety(
         mechanism_world=mechanism,
         failure_displacement_m=failure,
         laws_losing_cohesion=model.laws_losing_cohesion,
+        support_state=held,
     )

@@ -35,6 +35,7 @@ from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.bridges import failure_mode
 from bbmc.dem.model import Model
+from bbmc.support.report import per_bolt_kN, support_lines
 
 
 def _vector(xy: np.ndarray) -> np.ndarray:
@@ -103,6 +104,22 @@ def contact_mesh(
         },
     )
     return mesh, {"law": [model.law_names[j] for j in law]}
+
+
+def support_mesh(model: Model, blocks: np.ndarray, support: np.ndarray) -> meshio.Mesh:
+    """The support elements as lines at the blocks' positions (`bbmc.support.report.support_lines`),
+    with their axial and shear force [kN per bolt] and state (0 elastic, 1 yielded, 2 ruptured)."""
+    lines, axial = support_lines(model.support, blocks, support)
+    state = np.where(support[:, L.BROKEN] > 0, 2, np.where(support[:, L.YIELDED] > 0, 1, 0))
+    return meshio.Mesh(
+        _vector(lines.reshape(-1, 2)),
+        [("line", np.arange(2 * len(lines)).reshape(-1, 2))],
+        cell_data={
+            "axial_kN": [axial],
+            "shear_kN": [per_bolt_kN(model.support, support[:, L.SHEAR])],
+            "state": [state.astype(np.int64)],
+        },
+    )
 
 
 def _text_array(parent: ET.Element, name: str, values: list[str], with_count: bool) -> None:
@@ -192,6 +209,9 @@ class Series:
         self.files[f"{self.folder}/contacts_{k:05d}.vtu"] = _vtu_bytes(
             contacts, contact_text, "PointData", names
         )
+        if len(self.model.support.names):
+            mesh = support_mesh(self.model, state.blocks, state.support)
+            self.files[f"{self.folder}/support_{k:05d}.vtu"] = _vtu_bytes(mesh, {}, "CellData", names)
 
     def collections(self) -> dict[str, bytes | str]:
         """The files of every record and the two PVD collections."""
@@ -201,5 +221,14 @@ class Series:
             f"{self.folder}/blocks.pvd": _collection([f"blocks_{k:05d}.vtu" for k in range(n)], self.times),
             f"{self.folder}/contacts.pvd": _collection(
                 [f"contacts_{k:05d}.vtu" for k in range(n)], self.times
+            ),
+            **(
+                {
+                    f"{self.folder}/support.pvd": _collection(
+                        [f"support_{k:05d}.vtu" for k in range(n)], self.times
+                    )
+                }
+                if len(self.model.support.names)
+                else {}
             ),
         }

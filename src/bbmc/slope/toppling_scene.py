@@ -15,6 +15,7 @@ limiting friction is bisected between the two.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import pandas as pd
@@ -110,8 +111,14 @@ def toppling_scene(blocks: BlockSystem, friction_deg: float, settings: TrialSett
     }
 
 
-def run_trial(blocks: BlockSystem, friction_deg: float, settings: TrialSettings) -> RunResult:
-    scene = toppling_scene(blocks, friction_deg, settings)
+SceneOf = Callable[[BlockSystem, float, TrialSettings], dict]
+
+
+def run_trial(
+    blocks: BlockSystem, friction_deg: float, settings: TrialSettings, scene_of: SceneOf = toppling_scene
+) -> RunResult:
+    """One friction angle on the engine; `scene_of` may add to the scene (support, say)."""
+    scene = scene_of(blocks, friction_deg, settings)
     return simulate(built_scene(scene, f"<toppling slope at {friction_deg} deg>"))
 
 
@@ -123,13 +130,22 @@ def holds(result: RunResult) -> bool:
 
 
 def limiting_friction(
-    blocks: BlockSystem, low_deg: float, high_deg: float, tolerance_deg: float, settings: TrialSettings
+    blocks: BlockSystem,
+    low_deg: float,
+    high_deg: float,
+    tolerance_deg: float,
+    settings: TrialSettings,
+    scene_of: SceneOf = toppling_scene,
 ) -> float:
     """The friction angle [deg] between failing (low) and holding (high) to within `tolerance_deg`."""
-    if holds(run_trial(blocks, low_deg, settings)) or not holds(run_trial(blocks, high_deg, settings)):
+
+    def held(phi: float) -> bool:
+        return holds(run_trial(blocks, phi, settings, scene_of))
+
+    if held(low_deg) or not held(high_deg):
         raise ValueError(f"the slope must fail at {low_deg} deg and hold at {high_deg} deg")
     return bisect(
-        lambda phi: 1.0 if holds(run_trial(blocks, phi, settings)) else -1.0,
+        lambda phi: 1.0 if held(phi) else -1.0,
         low_deg,
         high_deg,
         xtol=tolerance_deg,

@@ -15,6 +15,12 @@ mobilized_cost.csv: the full Barton-Bandis law's cost per sub-contact update aga
 law's, and its error against update interval and stress-change trigger (`bbmc.bench.mobilized_cost`).
 sweep_cost.csv: sweep samples per second (limit equilibrium) and per minute (DEM), the speed-up on 2
 processes and on a 2-worker dask LocalCluster, and the overhead per task (`bbmc.bench.sweep_cost`).
+bandwidth.csv / bandwidth_limit.csv: the memory bandwidth (a STREAM triad on 1 and every thread), the
+bytes one sub-contact update moves and the most updates per second that bandwidth carries
+(`bbmc.bench.bandwidth`).
+support_cost.csv: where a scene has no support, this engine's time per step against the last commit
+before support elements; and the design search of a scene's `design:` section, its trials and wall
+time (`bbmc.bench.support_cost`).
 
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
@@ -40,6 +46,7 @@ from pydantic import Field, model_validator
 
 from bbmc import laws, units
 from bbmc.bench import tradeoff as to
+from bbmc.bench.bandwidth import bandwidth_table, limit_table, slope_counts
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.fos_cost import fos_cost_table
@@ -47,13 +54,26 @@ from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.rockmass_cost import bridge_cost, rockmass_cost
 from bbmc.bench.scaling import scaling_figure, scaling_table
+from bbmc.bench.support_cost import support_cost_table
 from bbmc.bench.sweep_cost import sweep_cost_table
 from bbmc.config import ConfigError, InputFile, Section
 from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
 
 NAME = "bench"
-SECTIONS = ("tradeoff", "economy", "scaling", "engine_cost", "fos", "mobilized", "sweep", "laws", "rockmass")
+SECTIONS = (
+    "tradeoff",
+    "economy",
+    "scaling",
+    "engine_cost",
+    "fos",
+    "mobilized",
+    "sweep",
+    "laws",
+    "rockmass",
+    "bandwidth",
+    "support",
+)
 
 
 Fraction = Annotated[float, Field(gt=0, le=1)]
@@ -156,6 +176,26 @@ class RockMassCost(Section):
     repeats: Repeats
 
 
+class Bandwidth(Section):
+    """The memory bandwidth by a STREAM triad, and the bytes per sub-contact update on the scaling
+    section's slope of about `blocks` blocks (`bbmc.bench.bandwidth`)."""
+
+    array_MB: Annotated[float, Field(ge=1, le=10_000)]  # each of the triad's three arrays, 1e6 bytes
+    repeats: Repeats
+    blocks: Annotated[int, Field(ge=10, le=1_000_000)] = 10_000
+
+
+class SupportCost(Section):
+    """Where a scene has no support: this engine against the last commit before support elements;
+    and the design search of a scene with a `design:` section (`bbmc.bench.support_cost`)."""
+
+    commit: Annotated[str, Field(min_length=4, max_length=40, pattern=r"^[0-9a-fA-F]+$")]
+    block_counts: list[Annotated[int, Field(ge=10, le=1_000_000)]] = Field(min_length=1)
+    steps: Annotated[int, Field(ge=10, le=1_000_000)]
+    repeats: Repeats
+    design_scene: InputFile
+
+
 class Config(Section):
     """The paper's scenes and the sections to run (each optional, at least one given)."""
 
@@ -170,6 +210,8 @@ class Config(Section):
     sweep: SweepCost | None = None
     laws: Laws | None = None
     rockmass: RockMassCost | None = None
+    bandwidth: Bandwidth | None = None
+    support: SupportCost | None = None
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
     @model_validator(mode="after")
@@ -350,6 +392,23 @@ def rockmass_part(config: Config, scenes: PaperScenes, progress: Callable[[str],
     return {"rockmass_cost": pd.DataFrame(rows)}, {}
 
 
+def bandwidth_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    b = config.bandwidth
+    progress("memory bandwidth: STREAM triad on 1 and every thread; bytes per sub-contact update")
+    triad = bandwidth_table(b.array_MB, b.repeats)
+    limit = limit_table(triad, slope_counts(b.blocks, config.slope_config))
+    return {"bandwidth": triad, "bandwidth_limit": limit}, {}
+
+
+def support_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    c = config.support
+    table = support_cost_table(
+        c.commit, c.block_counts, c.steps, c.repeats, config.slope_config, config.shear_config,
+        c.design_scene, progress,
+    )  # fmt: skip
+    return {"support_cost": table}, {}
+
+
 PARTS = {
     "tradeoff": tradeoff_part,
     "economy": economy_part,
@@ -360,6 +419,8 @@ PARTS = {
     "sweep": sweep_part,
     "laws": laws_part,
     "rockmass": rockmass_part,
+    "bandwidth": bandwidth_part,
+    "support": support_part,
 }
 
 

@@ -4,11 +4,17 @@
 Writes into <results>/fos/<scene name>/: fos.csv (every trial: F, verdict, why, steps, largest
 displacement, unbalanced-force ratio, wall time), summary.csv (`quantity,value,unit`, with the row
 factor_of_safety), mechanism.png (displacement at the end of the lowest unstable trial),
-bracketing.png (the trials' F in order) and provenance.json.
+bracketing.png (the trials' F in order) and provenance.json. With a `support:` section: the FS is
+found with the support and again without it (summary rows factor_of_safety and
+factor_of_safety_without_support), and support.csv gives each element's load at the end of the
+highest stable trial. With a `design:` section: design.csv, every trial of the search for the support
+that reaches the target FS (`bbmc.support.design`), and its result in summary.csv.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -20,6 +26,9 @@ from bbmc.dem.model import build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.io import StageResult
+from bbmc.support.design import DesignResult, design_support
+from bbmc.support.elements import SupportElements
+from bbmc.support.report import largest_loads, support_table
 
 NAME = "fos"
 Config = Scene
@@ -41,7 +50,14 @@ def trial_table(result: StrengthReductionResult) -> pd.DataFrame:
     )
 
 
-def summary_table(result: StrengthReductionResult, scene: Scene, seconds: float) -> pd.DataFrame:
+def summary_table(
+    result: StrengthReductionResult,
+    scene: Scene,
+    seconds: float,
+    unsupported: StrengthReductionResult | None = None,
+    bolt_loads: dict[str, float] | None = None,
+    design: DesignResult | None = None,
+) -> pd.DataFrame:
     settings = scene.fos
     rows = [
         ("factor_of_safety", result.factor_of_safety, "1"),
@@ -60,7 +76,43 @@ def summary_table(result: StrengthReductionResult, scene: Scene, seconds: float)
         ("barton_bandis_reduction_phi_b_jrc", int(settings.barton_bandis_reduction == "phi_b_jrc"), "1"),
         ("laws_losing_cohesion_at_slip", len(result.laws_losing_cohesion), "1"),
     ]
+    if unsupported is not None:
+        rows += [
+            ("factor_of_safety_without_support", unsupported.factor_of_safety, "1"),
+            ("support_reduced_passive", int(settings.support_form == "passive"), "1"),
+            *((f"bolt_load_{name}", load, "kN per bolt") for name, load in (bolt_loads or {}).items()),
+        ]
+    if design is not None:
+        target = scene.design
+        unit = "kN" if target.vary == "capacity" else "m"
+        rows += [
+            ("design_target_factor_of_safety", target.target_fs, "1"),
+            (f"design_{target.vary}", math.nan if design.value is None else design.value, unit),
+            ("design_reached", int(design.value is not None), "1"),
+            ("design_trials", len(design.trials), "1"),
+            ("design_wall_time", design.seconds, "s"),
+        ]
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
+
+
+def support_summary_lines(scene: Scene, summary: pd.DataFrame) -> list[str]:
+    """What the command prints of the support and the design (nothing for a scene without them)."""
+    value = dict(zip(summary["quantity"], summary["value"], strict=True))
+    lines = []
+    if "factor_of_safety_without_support" in value:
+        lines.append(f"without its support: factor of safety {value['factor_of_safety_without_support']:.4g}")
+    design = scene.design
+    if design is not None:
+        unit = "kN" if design.vary == "capacity" else "m"
+        found = value[f"design_{design.vary}"]
+        lines.append(
+            f"design: {design.support} {design.vary} {found:.4g} {unit} gives FS {design.target_fs:g} "
+            f"({int(value['design_trials'])} trials, {value['design_wall_time']:.1f} s; design.csv)"
+            if value["design_reached"]
+            else f"design: no {design.vary} in {design.range} {unit} gives FS {design.target_fs:g} "
+            "(design.csv)"
+        )
+    return lines
 
 
 def run(
@@ -70,8 +122,18 @@ def run(
     started = time.perf_counter()
     model = build_model(scene, config_path)
     result = factor_of_safety(model, progress)
+    tables = {"fos": trial_table(result)}
+    unsupported, loads, design = None, None, None
+    if len(model.support.names):
+        progress("the same scene without its support")
+        unsupported = factor_of_safety(dataclasses.replace(model, support=SupportElements.none()), progress)
+        tables["support"] = support_table(model.support, model.block_names, result.support_state)
+        loads = largest_loads(model.support, result.support_state)
+    if scene.design is not None:
+        design = design_support(model, config_path, progress)
+        tables["design"] = design.trials
     seconds = time.perf_counter() - started
-    tables = {"fos": trial_table(result), "summary": summary_table(result, scene, seconds)}
+    tables["summary"] = summary_table(result, scene, seconds, unsupported, loads, design)
     figures = {
         "bracketing": bracketing_figure(result, scene.figure_dpi),
         "mechanism": mechanism_figure(model, result, scene.figure_dpi),

@@ -3,7 +3,9 @@
 Writes into <results>/run/<scene name>/: history.csv (the monitors at every record step),
 blocks.csv (final state of every block), contacts.csv (final state of every sub-contact),
 summary.csv (steps, time, time-step range, contact searches, interpenetration, warnings),
-scene.png, history.png and provenance.json; for a scene with rock bridges, bridges.csv and bridges.png
+scene.png (bolts coloured by their load), history.png and provenance.json; for a scene with support,
+support.csv (each anchor and each grouted bolt's crossing of a joint: its force, capacity and state;
+`bbmc.support.report`); for a scene with rock bridges, bridges.csv and bridges.png
 (`bbmc.dem.bridges`); with --vtk, vtk/ (blocks and sub-contacts of every record
 as VTU files and their PVD collections, for ParaView).
 """
@@ -22,6 +24,7 @@ from bbmc.dem.scene import Scene
 from bbmc.dem.solver import RunResult, State, initial_state, simulate
 from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
+from bbmc.support.report import support_table
 
 NAME = "run"
 Config = Scene
@@ -57,9 +60,18 @@ def run(
         "warnings": warnings,
     }
     figures = {
-        "scene": scene_figure(model, initial, result.state.world, result.state.dof, scene.figure_dpi),
+        "scene": scene_figure(
+            model,
+            initial,
+            result.state.world,
+            result.state.dof,
+            scene.figure_dpi,
+            (result.state.blocks, result.state.support),
+        ),
         "history": history_figure(result.history, scene.figure_dpi),
     }
+    if len(model.support.names):
+        tables["support"] = support_table(model.support, model.block_names, result.state.support)
     if log is not None:
         tables["bridges"] = log.table()
         figures["bridges"] = bridges_figure(model, result.state.world, tables["bridges"], scene.figure_dpi)

@@ -65,6 +65,17 @@ class Planar(Section):
     support: PlanarSupport | None = None
 
 
+class TopplingSupport(Section):
+    """A support force per metre run on one block of the toppling system (`bbmc.slope.toppling.
+    BlockSupport`, RocTopple's): on its downhill face at height_m above its base, at angle_deg from the
+    base's up-dip direction towards the base; not reduced with the friction."""
+
+    block: Annotated[int, Field(ge=1)]  # 1: the toe block
+    force_kN_per_m: Annotated[float, Field(ge=0)]
+    angle_deg: Annotated[float, Field(ge=-180, le=180)]
+    height_m: Annotated[float, Field(ge=0)] = 0.0
+
+
 class Toppling(Section):
     """Goodman & Bray's toppling of a regular block system (`bbmc.slope.toppling.regular_system`): FS by
     tan phi reduction, one friction angle on bases and sides unless side_friction_deg is given."""
@@ -78,12 +89,18 @@ class Toppling(Section):
     b_m: float
     friction_deg: Angle
     side_friction_deg: Angle | None = None
+    unit_weight_kN_m3: Positive = 26.0  # with a support only (without, the FS does not depend on it)
+    support: TopplingSupport | None = None
 
     @model_validator(mode="after")
     def _forms_a_system(self) -> Toppling:
-        toppling.regular_system(
+        system = toppling.regular_system(
             self.width_m, math.radians(self.base_dip_deg), self.crest_block, self.a1_m, self.a2_m, self.b_m
         )
+        if self.support is not None and self.support.block > system.n_blocks:
+            raise ValueError(
+                f"support.block: the system has blocks 1 to {system.n_blocks}, not {self.support.block}"
+            )
         return self
 
 

@@ -127,6 +127,9 @@ class PlanarModel:
         return pd.DataFrame({FS: fs, ERROR: errors}, index=inputs.index)
 
 
+SUPPORT_KEYS = ("block", "force_kN_per_m", "angle_deg", "height_m")  # a toppling base's support
+
+
 @dataclass(frozen=True)
 class TopplingModel:
     """Goodman & Bray's toppling (`bbmc.slope.toppling`): the block system built once per geometry, its
@@ -134,22 +137,45 @@ class TopplingModel:
 
     base: dict
 
+    def _support(self, inputs: pd.DataFrame) -> dict[str, np.ndarray]:
+        """The support's values per sample (zero force without a support)."""
+        given = self.base.get("support") or dict.fromkeys(SUPPORT_KEYS, 0.0)
+        return {
+            key: np.asarray(
+                inputs[f"support.{key}"] if f"support.{key}" in inputs else np.full(len(inputs), given[key]),
+                dtype=float,
+            )
+            for key in SUPPORT_KEYS
+        }
+
     def __call__(self, inputs: pd.DataFrame) -> pd.DataFrame:
-        keys = ("width_m", "base_dip_deg", "crest_block", "a1_m", "a2_m", "b_m")
+        keys = ("width_m", "base_dip_deg", "crest_block", "a1_m", "a2_m", "b_m", "unit_weight_kN_m3")
         values = {k: inputs[k].to_numpy() if k in inputs else np.full(len(inputs), self.base[k]) for k in
                   (*keys, "friction_deg", "side_friction_deg")}  # fmt: skip
+        support = self._support(inputs)
         fs, errors = np.full(len(inputs), math.nan), _errors(len(inputs))
-        geometry = np.column_stack([np.asarray(values[k], dtype=float) for k in keys])
+        columns = [np.asarray(values[k], dtype=float) for k in keys] + [support[k] for k in SUPPORT_KEYS]
+        geometry = np.column_stack(columns)
         for row in np.unique(geometry, axis=0):
             rows = np.all(geometry == row, axis=1)
-            width, dip, crest, a1, a2, b = row
+            width, dip, crest, a1, a2, b, unit_weight = row[: len(keys)]
+            block, force, angle, height = row[len(keys) :]
             try:
                 system = toppling.regular_system(width, math.radians(dip), int(crest), a1, a2, b)
+                held = (
+                    toppling.BlockSupport.on_block(
+                        system, int(block), force * 1e3, math.radians(angle), height
+                    )
+                    if force > 0
+                    else None
+                )
                 side = values["side_friction_deg"]
                 fs[rows] = toppling.factor_of_safety(
                     system,
                     np.radians(np.asarray(values["friction_deg"], dtype=float)[rows]),
                     None if side[0] is None else np.radians(np.asarray(side, dtype=float)[rows]),
+                    held,
+                    unit_weight * 1e3,
                 )
             except ValueError as error:
                 errors[rows] = str(error)

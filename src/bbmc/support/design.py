@@ -1,0 +1,250 @@
+"""The support that reaches a target factor of safety: a scene's `design:` section (`bbmc fos`).
+
+One support element's steel capacity (the smallest that reaches the target) or its out-of-plane
+spacing (the largest) is searched in its range, in two stages:
+
+1. Limit equilibrium, where the scene allows it: one block free to move, resting on blocks held still
+   along one straight plane (`planar_limit_equilibrium`). Its loads (gravity, seismic, water, block
+   loads) are the engine's own at step 0, its plane's length, cohesion and friction those of the
+   contacts found at step 0, and the support's force its capacity per metre along its axis, in
+   RocPlane's active form: FS = (c A + (N + T_n) tan phi) / (D - T_s). FS grows with the capacity and
+   falls with the spacing, so the target is found by bisection (to 1e-4 of the value).
+2. The engine: strength reduction (`bbmc.dem.strength_reduction`) at the limit-equilibrium value, then,
+   while it falls short of the target (by more than half the FS search's tolerance), at values
+   stepped towards the safe end of the range by bisection between the last short and the safe end,
+   to `tolerance` of the value. Without a limit-equilibrium stage the engine bisects the whole range.
+
+Every trial is a row of the design table: stage, value, FS, seconds.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from bbmc.dem import layout as L
+from bbmc.dem.model import Model, build_model
+from bbmc.dem.motion import apply_loads
+from bbmc.dem.solver import initial_state, prepare
+from bbmc.dem.strength_reduction import factor_of_safety
+from bbmc.dem.water import add_water_loads
+from bbmc.support.config import Anchor, Design, Tendon
+from bbmc.support.elements import anchor_capacity_kN
+
+PARALLEL = math.radians(1.0)  # contacts of one plane: their edges within this angle of each other
+LIMIT_EQUILIBRIUM_TOLERANCE = 1e-4  # of the value: limit equilibrium is cheap, the engine is not
+LOADED_STEP = 1e18  # a step after every ramp: the loads in full
+
+
+@dataclass(frozen=True)
+class PlanarLimitEquilibrium:
+    """A free block on one plane: c A [N/m], N [N/m] onto the plane, D [N/m] down it, tan phi, the
+    down-plane unit vector and the unit normal into the plane, and the block's index."""
+
+    cohesion_force: float
+    normal: float
+    driving: float
+    tan_phi: float
+    down: np.ndarray
+    into: np.ndarray
+    block: int
+
+    def factor_of_safety(self, support_force: np.ndarray, form: str = "active") -> float:
+        """FS with a support force vector on the block [N/m], in RocPlane's `form`: active,
+        (c A + (N + T_n) tan phi) / (D - T_s) (inf where nothing drives), or passive,
+        (c A + (N + T_n) tan phi + T_s) / D."""
+        along = -float(support_force @ self.down)
+        onto = float(support_force @ self.into)
+        held = self.cohesion_force + max(self.normal + onto, 0.0) * self.tan_phi
+        if form == "passive":
+            return (held + along) / self.driving
+        driving = self.driving - along
+        return held / driving if driving > 0 else math.inf
+
+
+def _loads(model: Model) -> np.ndarray:
+    """The engine's loads on every block at step 0 with every ramp done: (n, 3) [N/m, N/m, N m/m]."""
+    state = initial_state(model)
+    blocks = state.blocks
+    apply_loads(
+        blocks,
+        state.world,
+        model.vertex_next,
+        model.vertex_block,
+        model.gravity,
+        model.block_loads,
+        model.load_block,
+        model.edge_loads,
+        model.load_edge,
+        LOADED_STEP,
+    )
+    everyone = np.ones(len(blocks), dtype=bool)
+    add_water_loads(
+        blocks,
+        state.world,
+        model.vertex_start,
+        model.vertex_next,
+        everyone,
+        model.water_surface,
+        model.water_unit_weight,
+        state.dry_edges,
+    )
+    return blocks[:, [L.FX, L.FY, L.FM]].copy()
+
+
+def planar_limit_equilibrium(model: Model) -> PlanarLimitEquilibrium | str:
+    """The scene as a planar limit-equilibrium problem (module docstring), or why it is not one."""
+    free = np.flatnonzero(~model.immobile)
+    if len(free) != 1:
+        return f"{len(free)} blocks are free to move (limit equilibrium here takes one)"
+    block = int(free[0])
+    state = prepare(model)
+    touching = (state.contacts[:, L.BLOCK_A] == block) | (state.contacts[:, L.BLOCK_B] == block)
+    subs = state.subs.reshape(len(state.contacts), state.n_sub, L.SUB_COLUMNS)[touching]
+    lengths = subs[:, :, L.LENGTH]
+    if not np.any(lengths > 0):
+        return "the free block touches nothing at step 0"
+    contacts = state.contacts[touching]
+    own = np.where(contacts[:, L.BLOCK_A] == block, contacts[:, L.EDGE_A], contacts[:, L.EDGE_B])
+    carrying = lengths.sum(axis=1) > 0
+    tangents = state.world[model.vertex_next[own[carrying]]] - state.world[own[carrying]]
+    angles = np.arctan2(tangents[:, 1], tangents[:, 0])
+    if np.ptp(np.angle(np.exp(1j * (angles - angles[0])))) > PARALLEL:
+        return "the free block rests on more than one plane"
+    tangent = tangents[0] / np.hypot(*tangents[0])
+    outward = np.array([tangent[1], -tangent[0]])
+    load = _loads(model)[block, :2]
+    along = float(load @ tangent)
+    down = tangent if along >= 0 else -tangent
+    area = float(lengths.sum())
+    weights = lengths.ravel() / area
+    return PlanarLimitEquilibrium(
+        cohesion_force=float(weights @ subs[:, :, L.COH].ravel()) * area,
+        normal=float(load @ outward),
+        driving=abs(along),
+        tan_phi=float(weights @ subs[:, :, L.TANPHI].ravel()),
+        down=down,
+        into=outward,
+        block=block,
+    )
+
+
+def support_force_on(model: Model, problem: PlanarLimitEquilibrium, name: str) -> np.ndarray:
+    """The force per metre [N/m] that tendon `name` puts on the free block as it slides down the
+    plane, at its capacity: each of its elements on the block pulls along its axis u against the
+    slide, -T sign(down . u) u, where the slide stretches it (a grouted crossing: always, in tension
+    or compression; an anchor: when the block moves away from its other end, else it is slack)."""
+    support = model.support
+    force = np.zeros(2)
+    for e, element in enumerate(support.names):
+        a, b = support.blocks[e]
+        if element != name or problem.block not in (a, b):
+            continue
+        axis = support.support[e, [L.DIR_X, L.DIR_Y]]
+        slide = float(problem.down @ axis)
+        stretched = slide < 0 if a == problem.block else slide > 0
+        if support.support[e, L.KIND] == L.ANCHOR and not stretched:
+            continue
+        force -= np.sign(slide) * support.support[e, L.CAP_AXIAL] * axis
+    return force
+
+
+def _varied(model: Model, design: Design, value: float, path: Path) -> Model:
+    """The model with the design element's capacity or spacing set to `value` (an anchor's
+    pretension kept at the same fraction of its steel capacity, and at most its capacity)."""
+
+    def changed(tendon: Tendon) -> Tendon:
+        if design.vary == "spacing":
+            return tendon.model_copy(update={"spacing_m": value})
+        update = {"steel_capacity_kN": value}
+        if isinstance(tendon, Anchor):
+            varied = tendon.model_copy(update=update)
+            update["pretension_kN"] = min(
+                tendon.pretension_kN * value / tendon.steel_capacity_kN, anchor_capacity_kN(varied)
+            )
+        return tendon.model_copy(update=update)
+
+    support = [changed(t) if t.name == design.support else t for t in model.scene.support]
+    scene = model.scene.model_copy(update={"support": support, "design": None})
+    return dataclasses.replace(build_model(scene, path), economy=model.economy)
+
+
+@dataclass
+class DesignResult:
+    value: float | None  # the design's capacity [kN] or spacing [m]; None: the range does not reach it
+    trials: pd.DataFrame  # stage, value, factor_of_safety, seconds
+    limit_equilibrium_note: str  # why the scene has no limit-equilibrium stage ("" when it has one)
+    seconds: float
+
+
+def _search(
+    passes: Callable[[float], bool], unsafe_end: float, safe_end: float, tolerance: float
+) -> float | None:
+    """The value nearest `unsafe_end` that passes, to `tolerance` of it, by bisection: `unsafe_end`
+    itself if it passes, None if `safe_end` does not (each end tried once)."""
+    if passes(unsafe_end):
+        return unsafe_end
+    if unsafe_end == safe_end or not passes(safe_end):
+        return None
+    short, ok = unsafe_end, safe_end
+    while abs(ok - short) > tolerance * abs(ok):
+        middle = 0.5 * (short + ok)
+        short, ok = (short, middle) if passes(middle) else (middle, ok)
+    return ok
+
+
+def design_support(
+    model: Model, path: Path, progress: Callable[[str], None] = lambda _: None
+) -> DesignResult:
+    """The design of the scene's `design:` section (module docstring)."""
+    design = model.scene.design
+    started = time.perf_counter()
+    low, high = design.range
+    unsafe_end, safe_end = (low, high) if design.vary == "capacity" else (high, low)
+    rows: list[tuple[str, float, float, float]] = []
+
+    def trial(stage: str, value: float, fs_of: Callable[[Model], float]) -> float:
+        begun = time.perf_counter()
+        fs = fs_of(_varied(model, design, value, path))
+        rows.append((stage, value, fs, time.perf_counter() - begun))
+        progress(f"design: {stage.replace('_', ' ')}, {design.vary} {value:.4g}: FS {fs:.3f}")
+        return fs
+
+    problem = planar_limit_equilibrium(model)
+    note = problem if isinstance(problem, str) else ""
+    start = unsafe_end
+    if note:
+        progress(f"design: no limit-equilibrium stage ({note}): the engine alone searches")
+    else:
+        le = _search(
+            lambda v: (
+                trial(
+                    "limit_equilibrium",
+                    v,
+                    lambda m: problem.factor_of_safety(
+                        support_force_on(m, problem, design.support), model.scene.fos.support_form
+                    ),
+                )
+                >= design.target_fs
+            ),
+            unsafe_end,
+            safe_end,
+            LIMIT_EQUILIBRIUM_TOLERANCE,
+        )
+        start = safe_end if le is None else le
+    passes = design.target_fs - 0.5 * model.scene.fos.tolerance
+    best = _search(
+        lambda v: trial("engine", v, lambda m: factor_of_safety(m).factor_of_safety) >= passes,
+        start,
+        safe_end,
+        design.tolerance,
+    )
+    trials = pd.DataFrame(rows, columns=["stage", "value", "factor_of_safety", "seconds"])
+    return DesignResult(best, trials, note, time.perf_counter() - started)
