@@ -16,6 +16,7 @@ only. A study's variables and grid axes are checked by the key their `path` ends
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Callable, Iterator
@@ -219,6 +220,7 @@ RANGES: tuple[Range, ...] = (
 )  # fmt: skip
 
 
+@functools.cache
 def _row(path: str) -> Range | None:
     """The row for a dotted key (list indices left out), or None for a key with no plausible range."""
     return next((row for row in RANGES if row.matches(path)), None)
