@@ -456,3 +456,24 @@ def test_a_design_keeps_an_anchors_pretension_within_its_capacity():
     tree["support"][0].update(steel_capacity_kN=1000, pretension_kN=400, bond_strength_kN_per_m=60)
     result = design_support(built_scene(tree, str(path)), path)
     assert result.value is None  # the bond (600 kN) cannot give FS 1.5 at any steel capacity
+
+
+def test_the_figures_draw_the_bolts_coloured_by_their_load():
+    """scene.png and mechanism.png of the bolted example carry the bolts as a line collection coloured
+    by axial load, with its colour bar."""
+    from matplotlib.collections import LineCollection
+
+    from bbmc.dem.figures import mechanism_figure, scene_figure
+
+    model = load_scene(CONFIGS / "scenes" / "bolted_planar.yaml")
+    result = factor_of_safety(model)
+    figures = [
+        mechanism_figure(model, result, 60),
+        scene_figure(
+            model, result.start_world, result.start_world, model.dof, 60, (model.blocks, result.support_state)
+        ),
+    ]
+    for figure in figures:
+        lines = [c for c in figure.axes[0].collections if isinstance(c, LineCollection)]
+        assert len(lines) == 1 and lines[0].get_array()[0] == pytest.approx(1000.0, rel=0.01)
+        assert any("bolt load" in axis.get_ylabel() for axis in figure.axes[1:])

@@ -18,6 +18,7 @@ from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
+from matplotlib.patheffects import withStroke
 
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model
@@ -91,22 +92,23 @@ def draw_loads(ax: Axes, model: Model, points: np.ndarray) -> None:
         )
 
 
-def draw_support(ax: Axes, model: Model, blocks: np.ndarray, support: np.ndarray) -> None:
-    """The support elements at the blocks' positions, coloured by axial load, with a colour bar up
-    to the largest capacity."""
+def draw_support(ax: Axes, model: Model, blocks: np.ndarray, support: np.ndarray, when: str = "") -> None:
+    """The support elements at the blocks' positions, coloured by axial load (`when`: when it was read,
+    as the colour bar's label says), with a colour bar up to the largest capacity."""
     lines, axial = support_lines(model.support, blocks, support)
     broken = support[:, L.BROKEN] > 0
     top = max(float(np.max(per_bolt_kN(model.support, support[:, L.CAP_AXIAL]), initial=0.0)), 1e-9)
     drawn = LineCollection(
         lines,
         array=axial,
-        cmap="viridis",
+        cmap="plasma",
         norm=Normalize(0.0, top),
         linewidths=2.5,
+        path_effects=[withStroke(linewidth=4.5, foreground="k")],  # seen on any block colour
         linestyles=np.where(broken, ":", "-").tolist(),
     )
     ax.add_collection(drawn)
-    ax.figure.colorbar(drawn, ax=ax, shrink=0.7, label="axial load [kN per bolt] (top: largest capacity)")
+    ax.figure.colorbar(drawn, ax=ax, shrink=0.7, label=f"bolt load{when} [kN/bolt]; top: largest capacity")
 
 
 def scene_figure(
@@ -173,7 +175,8 @@ def history_figure(history: pd.DataFrame, dpi: int) -> Figure:
 def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) -> Figure:
     """The failure mechanism: every block where the trials start, shaded by how far it has moved at the
     end of the lowest unstable trial, with its centroid's displacement as an arrow (scaled to be seen);
-    the title gives the FS (`fos_title`); the water and seismic loads as `draw_loads` draws them."""
+    the title gives the FS (`fos_title`); the water and seismic loads as `draw_loads` draws them; the
+    bolts at the blocks' start, coloured by their load in the last stable trial (`draw_support`)."""
     points = result.start_world
     spread = np.ptp(points, axis=0)
     wide = min(max(spread[0] / max(spread[1], 1e-12), 0.6), 2.0)  # the figure follows the scene's shape
@@ -199,6 +202,8 @@ def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) ->
         ax.quiver(*centre[free].T, *shift[free].T, color="tab:red", angles="xy", width=0.004, zorder=3)
     _frame(ax, model, points)
     draw_loads(ax, model, points)
+    if len(model.support.names):
+        draw_support(ax, model, model.blocks, result.support_state, ", last stable trial")
     if ax.get_legend_handles_labels()[0]:
         fig.legend(loc="outside lower center", fontsize="small")
     name = model.scene.name or "scene"
