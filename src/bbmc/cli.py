@@ -10,11 +10,7 @@ written (a sweep keeps its finished batches).
 from __future__ import annotations
 
 import functools
-import sys
 import time
-import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
 
@@ -22,12 +18,10 @@ import click
 
 from bbmc import __version__, kernel_cache
 from bbmc import warmup as warmup_module
+from bbmc.command_outcome import report_written, reported, scene_at_fault
 from bbmc.config import ConfigError, load_config
 from bbmc.dem.scene import Scene
-from bbmc.dem.solver import SimulationError
 from bbmc.io import provenance, write_stage
-from bbmc.plausibility import ImplausibleValue
-from bbmc.program import INTERRUPTED
 from bbmc.progress_bar import ProgressBar
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
@@ -40,80 +34,6 @@ from bbmc.stages import run as run_stage
 from bbmc.stages import shear as shear_stage
 from bbmc.stages import slope as slope_stage
 from bbmc.stages import sweep as sweep_stage
-
-
-@contextmanager
-def _reported(name: str, strict: bool = False) -> Iterator[None]:
-    """Turn the expected failures into one line on stderr and an exit status: 2 for bad input (the
-    config, an input file, an unusable time step), 3 for a run that went unstable, 4 for a study in
-    which no sample gave a result (its first errors, a few lines), 1 for a failed write, 130 for Ctrl-C
-    (what a sweep keeps, if it says so; nothing else is written). An implausible value of a config
-    loaded meanwhile is one warning line (each once), or with `strict` bad input. Python's other
-    warnings on the way (numpy's overflow, say, from an input far out of range) are shown one line
-    each after a run that ends well, and dropped beside the error line of one that does not (it says
-    what went wrong)."""
-    shown: set[str] = set()
-    deferred: dict[str, None] = {}  # the other warnings, each once, for after a run that ends well
-
-    def show(message: Warning | str, category: type[Warning], *where: object, **more: object) -> None:
-        if not issubclass(category, ImplausibleValue):
-            deferred[f"{category.__name__}: {message}"] = None
-        elif str(message) not in shown:
-            shown.add(str(message))
-            click.echo(f"bbmc {name}: warning: {message}", err=True)
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("default")
-            warnings.simplefilter("error" if strict else "always", ImplausibleValue)
-            warnings.showwarning = show
-            yield
-    except (KeyboardInterrupt, SystemError) as error:
-        interrupt = _interrupt_behind(error)
-        if interrupt is None:
-            raise
-        kept = f"{interrupt}; nothing else written" if str(interrupt) else "nothing written"
-        click.echo(f"bbmc {name}: interrupted: {kept}", err=True)
-        sys.exit(INTERRUPTED)
-    except ImplausibleValue as error:
-        click.echo(f"bbmc {name}: error: {error} [--strict]", err=True)
-        sys.exit(2)
-    except ConfigError as error:
-        click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(2)
-    except sweep_stage.NoValidSampleError as error:
-        click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(4)
-    except SimulationError as error:
-        click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(2 if error.bad_input else 3)
-    except OSError as error:
-        click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
-        sys.exit(1)
-    for text in deferred:
-        click.echo(f"bbmc {name}: warning: {text}", err=True)
-
-
-def _interrupt_behind(error: BaseException | None) -> KeyboardInterrupt | None:
-    """The Ctrl-C behind an error, if any: numba turns a KeyboardInterrupt raised in Python code that a
-    kernel calls back (to unpickle a constant) into a SystemError caused by it."""
-    while error is not None:
-        if isinstance(error, KeyboardInterrupt):
-            return error
-        error = error.__cause__ or error.__context__
-    return None
-
-
-@contextmanager
-def _scene_at_fault(config_path: Path) -> Iterator[None]:
-    """A run stopped by its scene or config itself (an unusable time step, a step budget too small to
-    decide) is bad input naming the file."""
-    try:
-        yield
-    except SimulationError as error:
-        if error.bad_input:
-            raise ConfigError(f"{config_path}: {error}") from None
-        raise
 
 
 def _config_path(name: str, noun: str, argument: str | None, option: str | None, default: str | None) -> Path:
@@ -134,21 +54,6 @@ def _config_path(name: str, noun: str, argument: str | None, option: str | None,
     return Path(given or default)
 
 
-def _report_written(name: str, out_dir: Path, written: list[Path]) -> None:
-    """One line per file written into `out_dir` itself, and one per folder in it (a ParaView series of
-    hundreds of files is one line: the folder and its file count)."""
-    click.echo(f"bbmc {name}: wrote {len(written)} files to {out_dir}/")
-    folders: dict[Path, int] = {}
-    for path in written:
-        inner = path.relative_to(out_dir).parts
-        if len(inner) == 1:
-            click.echo(f"  {path}")
-        else:
-            folders[out_dir / inner[0]] = folders.get(out_dir / inner[0], 0) + 1
-    for folder, count in folders.items():
-        click.echo(f"  {folder}/ ({count} files)")
-
-
 def _run_stage(
     stage: ModuleType,
     config_path: Path,
@@ -160,9 +65,9 @@ def _run_stage(
     """Load the stage's config, run it, write its results. `progress_after_s`: the stage reports its
     steps, shown on stderr once the run has lasted that long (None: a stage without progress).
     `options`: the command's own options, passed to the stage's run and recorded in its provenance."""
-    with _reported(stage.NAME, strict):
+    with reported(stage.NAME, strict):
         settings = load_config(config_path, stage.Config)
-        with _scene_at_fault(config_path):
+        with scene_at_fault(config_path):
             if progress_after_s is None:
                 result = stage.run(settings)
             else:
@@ -175,7 +80,7 @@ def _run_stage(
                 result = stage.run(settings, progress, **options)
         record = provenance(stage.NAME, config_path, settings) | options
         written = write_stage(Path(results) / stage.NAME, result, record)
-    _report_written(stage.NAME, Path(results) / stage.NAME, written)
+    report_written(stage.NAME, Path(results) / stage.NAME, written)
 
 
 def _file_options(name: str, noun: str, default: str | None = None):
@@ -185,7 +90,7 @@ def _file_options(name: str, noun: str, default: str | None = None):
     def decorate(function):
         @functools.wraps(function)
         def command(config_argument: str | None, config_option: str | None, **kwargs) -> None:
-            with _reported(name):
+            with reported(name):
                 config_path = _config_path(name, noun, config_argument, config_option, default)
             function(config_path=config_path, **kwargs)
 
@@ -326,11 +231,11 @@ def run_command(config_path: Path, results: str, strict: bool, vtk: bool, thread
     A run that goes unstable stops with one line naming the step and the likely cause (exit 3)
     and writes nothing.
     """
-    with _reported(run_stage.NAME, strict):
+    with reported(run_stage.NAME, strict):
         scene = _with_threads(load_config(config_path, run_stage.Config), threads)
         progress = ProgressBar(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
-            with _scene_at_fault(config_path):
+            with scene_at_fault(config_path):
                 result, outcome = run_stage.run(scene, config_path, progress, vtk)
         finally:
             progress.close()
@@ -338,7 +243,7 @@ def run_command(config_path: Path, results: str, strict: bool, vtk: bool, thread
             click.echo(f"bbmc run: warning: {warning}", err=True)
         out_dir = Path(results) / run_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(run_stage.NAME, config_path, scene))
-    _report_written(run_stage.NAME, out_dir, written)
+    report_written(run_stage.NAME, out_dir, written)
 
 
 @main.command(name="fos")
@@ -355,7 +260,7 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
     provenance.json; with support, also without it and support.csv; with a design: section,
     design.csv. Each trial is reported on stderr once the search has lasted 2 s.
     """
-    with _reported(fos_stage.NAME, strict):
+    with reported(fos_stage.NAME, strict):
         scene = _with_threads(load_config(config_path, fos_stage.Config), threads)
         started = time.perf_counter()
 
@@ -363,7 +268,7 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
             if time.perf_counter() - started >= 2.0:
                 click.echo(f"bbmc fos: {line}", err=True)
 
-        with _scene_at_fault(config_path):
+        with scene_at_fault(config_path):
             result, outcome = fos_stage.run(scene, config_path, progress)
         out_dir = Path(results) / fos_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(fos_stage.NAME, config_path, scene))
@@ -376,7 +281,7 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
         click.echo(f"bbmc fos: note: {outcome.progressive_note}")
     for line in fos_stage.support_summary_lines(scene, result.tables["summary"]):
         click.echo(f"bbmc fos: {line}")
-    _report_written(fos_stage.NAME, out_dir, written)
+    report_written(fos_stage.NAME, out_dir, written)
 
 
 @main.command(name="sweep")
@@ -405,7 +310,7 @@ def sweep_command(
     run again after an interruption runs only the missing samples. Progress and the time left on stderr.
     Exit status 4 (nothing written) if no sample gave a result, with the first errors.
     """
-    with _reported(sweep_stage.NAME, strict):
+    with reported(sweep_stage.NAME, strict):
         settings = load_config(config_path, sweep_stage.Config)
         root = Path(results) / sweep_stage.NAME
 
@@ -416,7 +321,7 @@ def sweep_command(
         out_dir = root / settings.name
         record = provenance(sweep_stage.NAME, config_path, settings) | {"scheduler": scheduler}
         written = write_stage(out_dir, result, record)
-    _report_written(sweep_stage.NAME, out_dir, written)
+    report_written(sweep_stage.NAME, out_dir, written)
 
 
 @main.command(name="bench")
@@ -493,7 +398,7 @@ def shear_command(config_path: Path, results: str, strict: bool, quick: bool) ->
     each runs with bbmc run), provenance.json
     """
     name = "shear-quick" if quick else shear_stage.NAME
-    with _reported(name, strict):
+    with reported(name, strict):
         settings = load_config(config_path, shear_stage.Config)
         if quick:
             settings = shear_stage.quick_config(settings)
@@ -503,11 +408,11 @@ def shear_command(config_path: Path, results: str, strict: bool, quick: bool) ->
             if time.perf_counter() - started > 2.0:
                 click.echo(f"bbmc {name}: {step}", err=True)
 
-        with _scene_at_fault(config_path):
+        with scene_at_fault(config_path):
             result = shear_stage.run(settings, progress)
         out_dir = Path(results) / name
         written = write_stage(out_dir, result, provenance(name, config_path, settings) | {"quick": quick})
-    _report_written(name, out_dir, written)
+    report_written(name, out_dir, written)
 
 
 @main.command(name="warmup")
@@ -526,7 +431,7 @@ def warmup_command() -> None:
     if kernel_cache.jit_disabled():
         click.echo("bbmc warmup: NUMBA_DISABLE_JIT is set: nothing to compile")
         return
-    with _reported("warmup"):
+    with reported("warmup"):
         done = warmup_module.warm(lambda part: click.echo(f"bbmc warmup: {part}...", err=True))
     where = f"the cache {done.folder}"
     if not done.cached:  # the keyed cache could not be made and numba keeps its files elsewhere, or nowhere

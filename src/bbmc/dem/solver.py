@@ -27,7 +27,7 @@ from bbmc.dem.detection import candidate_pairs, vertex_penetration
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.pace import Pace
 from bbmc.dem.scene import Scene
-from bbmc.dem.verdict import Trend
+from bbmc.dem.stopping import STOP_REASONS, Watch, moved_beyond_stop, stop_reason
 from bbmc.kernel_cache import announce_engine_compile
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
@@ -298,7 +298,7 @@ def advance(model: Model, state: State, n_steps: int) -> None:
         if status == L.SEARCH_NEEDED:
             search_contacts(model, state)
             _set_time_step(model, state)
-            if _moved_beyond_stop(model, state):
+            if moved_beyond_stop(model, state):
                 break  # blocks move at most half the search margin between searches: so does the overshoot
         _note_time_step(state)
 
@@ -389,7 +389,7 @@ def simulate(
     if on_record:
         on_record(state)
     stopped_by = ""
-    trend = _Watch.of(model, state)
+    trend = Watch.of(model, state)
     while state.step < solver.steps and not stopped_by:
         before = state.step
         advance(model, state, min(every - state.step % every, solver.steps - state.step))
@@ -399,7 +399,7 @@ def simulate(
         records.append(_record(model, state, reference, joints))
         if on_record:
             on_record(state)
-        stopped_by = _stop_reason(model, state, reference) or (
+        stopped_by = stop_reason(model, state, reference) or (
             trend.verdict(model, state, reference) if trend else ""
         )
     return RunResult(
@@ -410,83 +410,6 @@ def simulate(
         warnings=warnings,
         state=state,
     )
-
-
-STOP_REASONS = ("equilibrium", "displacement", "time", "decaying", "creep", "projected")
-DEFAULT_UNBALANCE_LIMIT = 1e-5  # the trend's balance limit when the stop gives no unbalanced_force_ratio
-
-
-@dataclass
-class _Watch:
-    """The trend of a run's motion (`bbmc.dem.verdict.Trend`) over windows of `solver.stop`'s
-    trend_window_steps, counted from the step every load acts in full."""
-
-    trend: Trend
-    window: int
-    start: int
-    world: np.ndarray
-
-    @classmethod
-    def of(cls, model: Model, state: State) -> _Watch | None:
-        stop = model.scene.solver.stop
-        if stop is None or stop.trend_window_steps is None:
-            return None
-        limit = stop.unbalanced_force_ratio or DEFAULT_UNBALANCE_LIMIT
-        return cls(Trend(stop.displacement_m, limit), stop.trend_window_steps, -1, state.world.copy())
-
-    def verdict(self, model: Model, state: State, reference: float) -> str:
-        """The trend's reason once it decides ("" until then), read at a record step."""
-        if state.step < model.loads_applied_step:
-            return ""
-        if self.start < 0 or state.step - self.start >= self.window:
-            moved = float(np.max(np.hypot(*(state.world - self.world).T), initial=0.0))
-            decided = (
-                self.trend.observe(
-                    moved,
-                    _largest_centroid_displacement(model, state),
-                    mon.unbalanced_force_ratio(state, reference),
-                )
-                if self.start >= 0
-                else None
-            )
-            self.start, self.world = state.step, state.world.copy()
-            if decided is not None:
-                return decided[1]
-        return ""
-
-
-def _moved_beyond_stop(model: Model, state: State) -> bool:
-    """True once a block that can move (free, or driven at a velocity) has moved further than the
-    stop's displacement_m from its start (its centroid's displacement)."""
-    stop = model.scene.solver.stop
-    if stop is None or stop.displacement_m is None:
-        return False
-    return _largest_centroid_displacement(model, state) > stop.displacement_m
-
-
-def _largest_centroid_displacement(model: Model, state: State) -> float:
-    """How far the centroid of a block that can move has moved from its start, at most [m]."""
-    b = state.blocks[~state.immobile]
-    return float(np.max(np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0]), initial=0.0))
-
-
-def _stop_reason(model: Model, state: State, reference: float) -> str:
-    """Which stop condition holds now ("" for none); equilibrium counts only once the loads act in
-    full, since a slowly ramped load is in near balance all along its ramp."""
-    stop = model.scene.solver.stop
-    if stop is None:
-        return ""
-    if _moved_beyond_stop(model, state):
-        return "displacement"
-    if stop.time_s is not None and state.clock[L.TIME] >= stop.time_s:
-        return "time"
-    if (
-        stop.unbalanced_force_ratio is not None
-        and state.step >= model.loads_applied_step
-        and mon.unbalanced_force_ratio(state, reference) < stop.unbalanced_force_ratio
-    ):
-        return "equilibrium"
-    return ""
 
 
 def _record(model: Model, state: State, reference: float, joints: mon.JointMonitors) -> dict[str, float]:

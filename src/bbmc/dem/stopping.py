@@ -1,0 +1,94 @@
+"""When a run stops (a scene's `solver.stop`): equilibrium once every load acts in full, a displacement
+beyond the stop's, a physical time, or the trend of the motion over windows (`bbmc.dem.verdict`).
+Read at record steps by `bbmc.dem.solver.simulate`; plain numpy."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from bbmc.dem import layout as L
+from bbmc.dem import monitors as mon
+from bbmc.dem.model import Model
+from bbmc.dem.verdict import Trend
+
+if TYPE_CHECKING:
+    from bbmc.dem.solver import State
+
+STOP_REASONS = ("equilibrium", "displacement", "time", "decaying", "creep", "projected")
+DEFAULT_UNBALANCE_LIMIT = 1e-5  # the trend's balance limit when the stop gives no unbalanced_force_ratio
+
+
+@dataclass
+class Watch:
+    """The trend of a run's motion (`bbmc.dem.verdict.Trend`) over windows of `solver.stop`'s
+    trend_window_steps, counted from the step every load acts in full."""
+
+    trend: Trend
+    window: int
+    start: int
+    world: np.ndarray
+
+    @classmethod
+    def of(cls, model: Model, state: State) -> Watch | None:
+        stop = model.scene.solver.stop
+        if stop is None or stop.trend_window_steps is None:
+            return None
+        limit = stop.unbalanced_force_ratio or DEFAULT_UNBALANCE_LIMIT
+        return cls(Trend(stop.displacement_m, limit), stop.trend_window_steps, -1, state.world.copy())
+
+    def verdict(self, model: Model, state: State, reference: float) -> str:
+        """The trend's reason once it decides ("" until then), read at a record step."""
+        if state.step < model.loads_applied_step:
+            return ""
+        if self.start < 0 or state.step - self.start >= self.window:
+            moved = float(np.max(np.hypot(*(state.world - self.world).T), initial=0.0))
+            decided = (
+                self.trend.observe(
+                    moved,
+                    largest_centroid_displacement(model, state),
+                    mon.unbalanced_force_ratio(state, reference),
+                )
+                if self.start >= 0
+                else None
+            )
+            self.start, self.world = state.step, state.world.copy()
+            if decided is not None:
+                return decided[1]
+        return ""
+
+
+def moved_beyond_stop(model: Model, state: State) -> bool:
+    """True once a block that can move (free, or driven at a velocity) has moved further than the
+    stop's displacement_m from its start (its centroid's displacement)."""
+    stop = model.scene.solver.stop
+    if stop is None or stop.displacement_m is None:
+        return False
+    return largest_centroid_displacement(model, state) > stop.displacement_m
+
+
+def largest_centroid_displacement(model: Model, state: State) -> float:
+    """How far the centroid of a block that can move has moved from its start, at most [m]."""
+    b = state.blocks[~state.immobile]
+    return float(np.max(np.hypot(b[:, L.X] - b[:, L.X0], b[:, L.Y] - b[:, L.Y0]), initial=0.0))
+
+
+def stop_reason(model: Model, state: State, reference: float) -> str:
+    """Which stop condition holds now ("" for none); equilibrium counts only once the loads act in
+    full, since a slowly ramped load is in near balance all along its ramp."""
+    stop = model.scene.solver.stop
+    if stop is None:
+        return ""
+    if moved_beyond_stop(model, state):
+        return "displacement"
+    if stop.time_s is not None and state.clock[L.TIME] >= stop.time_s:
+        return "time"
+    if (
+        stop.unbalanced_force_ratio is not None
+        and state.step >= model.loads_applied_step
+        and mon.unbalanced_force_ratio(state, reference) < stop.unbalanced_force_ratio
+    ):
+        return "equilibrium"
+    return ""
