@@ -18,6 +18,7 @@ from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.contact_geometry import contact_frame
 from bbmc.dem.model import Model, MonitorSpec
+from bbmc.dem.polygons import carried_points
 from bbmc.dem.scene import JOINT_QUANTITIES
 from bbmc.support.report import largest_loads
 
@@ -63,11 +64,9 @@ def column_name(spec: MonitorSpec) -> str:
 
 def point_displacement(blocks: np.ndarray, block: int, point: np.ndarray) -> np.ndarray:
     """Displacement [m] of the material point of `block` that started at `point` [m]."""
-    row = blocks[block]
-    arm = point - row[[L.X0, L.Y0]]
-    c, s = np.cos(row[L.TH]), np.sin(row[L.TH])
-    now = row[[L.X, L.Y]] + np.array([c * arm[0] - s * arm[1], s * arm[0] + c * arm[1]])
-    return now - point
+    row = blocks[block : block + 1]
+    now = carried_points(point[None], row[:, [L.X0, L.Y0]], row[:, [L.X, L.Y]], row[:, L.TH])
+    return now[0] - point
 
 
 def kinetic_energy(blocks: np.ndarray) -> float:

@@ -11,6 +11,17 @@ from collections.abc import Callable
 import numpy as np
 
 
+def carried_points(
+    start: np.ndarray, centroid_start: np.ndarray, centroid_now: np.ndarray, turn: np.ndarray
+) -> np.ndarray:
+    """Where points fixed in rigid blocks are now [m]: each point `start` (n, 2) of a block whose
+    centroid moved from `centroid_start` to `centroid_now` (n, 2) and which turned by `turn` (n,)
+    [rad] counter-clockwise: c_now + R(turn) (start - c_start)."""
+    c, s = np.cos(turn), np.sin(turn)
+    arm = start - centroid_start
+    return centroid_now + np.column_stack([c * arm[:, 0] - s * arm[:, 1], s * arm[:, 0] + c * arm[:, 1]])
+
+
 def polygon_area(vertices: np.ndarray) -> float:
     """Signed area [m^2] (shoelace, about the first vertex): > 0 for counter-clockwise vertices."""
     x, y = (vertices - vertices[0]).T

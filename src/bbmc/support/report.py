@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 
 from bbmc.dem import layout as L
+from bbmc.dem.polygons import carried_points
 from bbmc.support.elements import SupportElements
 
 STATES = ("elastic", "yielded", "ruptured")
@@ -57,10 +58,8 @@ def largest_loads(elements: SupportElements, support: np.ndarray) -> dict[str, f
 
 def _moved(blocks: np.ndarray, block: np.ndarray, start: np.ndarray) -> np.ndarray:
     """Points fixed in their blocks, from their start positions to now [m]."""
-    c, s = np.cos(blocks[block, L.TH]), np.sin(blocks[block, L.TH])
-    rx = start[:, 0] - blocks[block, L.X0]
-    ry = start[:, 1] - blocks[block, L.Y0]
-    return np.column_stack([blocks[block, L.X] + c * rx - s * ry, blocks[block, L.Y] + s * rx + c * ry])
+    rows = blocks[block]
+    return carried_points(start, rows[:, [L.X0, L.Y0]], rows[:, [L.X, L.Y]], rows[:, L.TH])
 
 
 def support_lines(
