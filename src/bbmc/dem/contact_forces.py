@@ -79,6 +79,15 @@ def _open(subs, s):
 
 
 @numba.njit(cache=True, inline="always")
+def _break_in_tension(subs, law_state, s):
+    """A share's bond has broken in tension: no tensile strength, no cohesion, from now on."""
+    subs[s, TEN] = 0.0
+    subs[s, COH] = 0.0
+    subs[s, SLIPPED] = FAILED_IN_TENSION
+    law_state[s, LAW_SN] = math.nan
+
+
+@numba.njit(cache=True, inline="always")
 def _normal_share(subs, s, u_mid, slope, half, inv_length, divisor):
     """The normal stress over one sub-contact's share of the overlap, integrated exactly, in place.
 
@@ -151,10 +160,7 @@ def _shear_share(subs, law_state, s, closed, sn, dus, was_closed, after_slip, di
     if closed <= 0.0:
         _open(subs, s)
         if closed < 0.0:  # the bond broke in tension: a crack that has opened does not heal
-            subs[s, TEN] = 0.0
-            subs[s, COH] = 0.0
-            subs[s, SLIPPED] = FAILED_IN_TENSION
-            law_state[s, LAW_SN] = math.nan
+            _break_in_tension(subs, law_state, s)
         return
     tau = subs[s, TAU] + subs[s, KS] * dus
     strength = max(subs[s, COH] + sn * subs[s, TANPHI], 0.0) / divisor
@@ -180,10 +186,12 @@ def _contact(c, blocks, world, vertex_next, contacts, subs, law_state, n_sub, la
     ea, eb = contacts[c, EDGE_A], contacts[c, EDGE_B]
     active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, size, a, b)
     first = c * n_sub
-    if not active:
+    if not active:  # edges that no longer face each other: a bond still held has broken
         for s in range(first, first + n_sub):
             _open(subs, s)
             subs[s, LENGTH] = 0.0
+            if subs[s, SLIPPED] == 0.0 and (subs[s, TEN] > 0.0 or subs[s, COH] > 0.0):
+                _break_in_tension(subs, law_state, s)
         return 0.0, 0.0, 0.0, 0.0
     tx, ty = -ny, nx
     joint = contacts[c, JOINT_TYPE]

@@ -1,6 +1,20 @@
 """The contact search: the facing edge pairs within the search margin, found between cycles; a
 contact found before keeps its state, a new one gets its joint type (the first contact rule that
-matches its blocks' groups, its dip and its edges' labels) and its initial state."""
+matches its blocks' groups, its dip and its edges' labels) and its initial state.
+
+The search is a computational device, and what it finds must not change an answer. So a contact that
+still holds a bond (a share that has neither slipped nor failed in tension, with cohesion or tensile
+strength: intact rock, a cemented joint) is kept whether or not the search finds it again: it opens
+only as far as its bond lets it (T / K_n, which can be more than a small margin) and goes only by
+breaking. A contact that the search's corner rule would drop (a corner makes one contact with a face:
+`detection.facing_edges`) is kept while it carries a load (a share in compression, or a bond): that rule
+is a choice at the search, and dropping a loaded contact at one search but not at another made a run
+depend on when it searched. Other contacts the search no longer finds are dropped (open ones, and
+edges that have slid past a joint's end, deeper than the blocks overlap).
+
+Intact rock that first comes into contact after the initial assembly, or that in it only meets end to
+end (two blocks that touch at a point and later slide onto each other's faces), was never bonded: it
+is born the joint it breaks into."""
 
 from __future__ import annotations
 
@@ -11,7 +25,7 @@ import numpy as np
 
 from bbmc.dem import contact_forces, joint_state, kernels
 from bbmc.dem import layout as L
-from bbmc.dem.detection import candidate_pairs, facing_edges
+from bbmc.dem.detection import CORNER_REPLACED, OVERLAPPING, candidate_pairs, facing_edges
 from bbmc.dem.model import Model
 
 if TYPE_CHECKING:
@@ -37,6 +51,30 @@ def _joint_types(model: Model, found: np.ndarray, normal: np.ndarray) -> np.ndar
     return types
 
 
+def _born_types(
+    model: Model, state: State, found: np.ndarray, normal: np.ndarray, overlapping: np.ndarray
+) -> np.ndarray:
+    """`_joint_types` of contacts new at this search; a type of intact rock is replaced by the joint it
+    breaks into after the initial assembly, and in it where the two edges only meet end to end (they
+    share a point, not a stretch of rock)."""
+    types = _joint_types(model, found, normal)
+    joint = model.laws[types, L.BREAKS_INTO]
+    never_bonded = ~overlapping if state.step == 0 else np.ones(len(types), dtype=bool)
+    return np.where((joint >= 0) & never_bonded, joint, types)
+
+
+def _shares_any(state: State, share: np.ndarray) -> np.ndarray:
+    """Whether any share of each contact satisfies `share` (a bool per sub-contact row)."""
+    return share.reshape(-1, state.n_sub).any(axis=1)
+
+
+def _bonded(state: State) -> np.ndarray:
+    """Whether each contact has a share that still holds a bond: neither slipped nor broken, with
+    cohesion or tensile strength."""
+    subs = state.subs
+    return _shares_any(state, (subs[:, L.SLIPPED] == 0.0) & ((subs[:, L.COH] > 0.0) | (subs[:, L.TEN] > 0.0)))
+
+
 def search_contacts(model: Model, state: State) -> None:
     """Find the facing edge pairs now within the margin; contacts found before keep their state."""
     b, economy = state.blocks, model.economy
@@ -45,19 +83,28 @@ def search_contacts(model: Model, state: State) -> None:
     found, normal = _facing_edges(model, state, pairs)
     n_vertices, n_sub = len(model.local), state.n_sub
     old_keys = state.contacts[:, L.EDGE_A] * n_vertices + state.contacts[:, L.EDGE_B]
+    status, found = found[:, 4], found[:, :4]
     new_keys = found[:, 0] * n_vertices + found[:, 1]
     order = np.argsort(old_keys, kind="stable")
     slot = np.searchsorted(old_keys[order], new_keys)
     known = slot < len(order)
     known[known] = old_keys[order][slot[known]] == new_keys[known]
-    kept = order[slot[known]]
-    fresh = found[~known]
+    old = order[slot[known]]
+    loaded = _bonded(state) | _shares_any(state, state.subs[:, L.SN] > 0.0)
+    stays = (status[known] != CORNER_REPLACED) | loaded[old]
+    bonded = np.flatnonzero(_bonded(state))
+    kept = np.union1d(old[stays], bonded[~np.isin(old_keys[bonded], new_keys)])
+    fresh = (~known) & (status != CORNER_REPLACED)
+    overlapping = status[fresh] == OVERLAPPING
     contacts = np.concatenate(
         [
             state.contacts[kept],
-            np.column_stack([fresh, _joint_types(model, fresh, normal[~known])]).astype(np.int64),
+            np.column_stack(
+                [found[fresh], _born_types(model, state, found[fresh], normal[fresh], overlapping)]
+            ).astype(np.int64),
         ]
     ).reshape(-1, L.CONTACT_COLUMNS)
+    fresh = found[fresh]
     kept_rows = (kept[:, None] * n_sub + np.arange(n_sub)).ravel()
     subs = np.concatenate([state.subs[kept_rows], np.zeros((len(fresh) * n_sub, L.SUB_COLUMNS))])
     law_state = np.concatenate(

@@ -391,7 +391,7 @@ def simulate(
     stopped_by = ""
     trend = Watch.of(model, state)
     while state.step < solver.steps and not stopped_by:
-        before = state.step
+        before, energy_before = state.step, mon.kinetic_energy(state.blocks)
         advance(model, state, min(every - state.step % every, solver.steps - state.step))
         if progress:
             progress(state.step - before)  # a displacement stop can end a chunk early
@@ -402,6 +402,8 @@ def simulate(
         stopped_by = stop_reason(model, state, reference) or (
             trend.verdict(model, state, reference) if trend else ""
         )
+    if not stopped_by and solver.stop is not None:
+        warnings.append(_unsettled(model, state, reference, energy_before))
     return RunResult(
         history=pd.DataFrame(records),
         blocks=mon.block_table(model, state.blocks),
@@ -409,6 +411,21 @@ def simulate(
         summary=_summary(model, state, stopped_by, warnings),
         warnings=warnings,
         state=state,
+    )
+
+
+def _unsettled(model: Model, state: State, reference: float, energy_before: float) -> str:
+    """The one line for a run that used all its steps without meeting its stop: what still moves, and
+    whether its kinetic energy rose over the last record interval."""
+    speed = np.hypot(state.blocks[:, L.VX], state.blocks[:, L.VY])
+    fastest = int(np.argmax(np.where(state.immobile, -1.0, speed)))
+    energy = mon.kinetic_energy(state.blocks)
+    return (
+        f"step {state.step}: solver.steps ran out before the stop was met: unbalanced-force ratio "
+        f"{mon.unbalanced_force_ratio(state, reference):.3g}, kinetic energy {energy:.3g} J per m, "
+        f"{'rising' if energy > energy_before else 'falling'}; block '{model.block_names[fastest]}' moves "
+        f"at {speed[fastest]:.3g} m/s. Blocks that keep moving are failing (bbmc fos gives the factor of "
+        "safety); a slope still settling needs more steps"
     )
 
 
@@ -424,6 +441,7 @@ def _summary(model: Model, state: State, stopped_by: str, warnings: list[str]) -
         ("steps", state.step, "1"),
         ("time", state.clock[L.TIME], "s"),
         *((f"stopped_by_{reason}", int(stopped_by == reason), "1") for reason in STOP_REASONS),
+        ("stopped_by_steps", int(not stopped_by), "1"),
         ("time_step_min", state.dt_range[0], "s"),
         ("time_step_max", state.dt_range[1], "s"),
         ("contact_searches", state.searches, "1"),
