@@ -13,6 +13,7 @@ import signal
 import subprocess
 import tempfile
 import threading
+import warnings
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
@@ -215,12 +216,36 @@ def provenance(stage: str, config_path: Path, config: BaseModel) -> dict[str, ob
     }
 
 
+class ResultsReplaced(UserWarning):
+    """A results folder that another config file had written was replaced (the two share a name)."""
+
+
+def _warn_if_another_file_wrote(out_dir: Path, record: Mapping[str, object]) -> None:
+    """Warn when `out_dir` holds the results of another config file than the one of `record` (by its
+    provenance.json): two scenes with the same name write to the same folder, and the second would
+    replace the first's without a word."""
+    try:
+        before = json.loads((out_dir / "provenance.json").read_text()).get("config_file")
+    except (OSError, ValueError, AttributeError):
+        return
+    now = record.get("config_file")
+    if before and now and Path(str(before)).resolve() != Path(str(now)).resolve():
+        warnings.warn(
+            f"{out_dir}/ held the results of {before}, replaced by those of {now}: the two share a "
+            "name; give one its own `name` to keep both",
+            ResultsReplaced,
+            stacklevel=3,
+        )
+
+
 def write_stage(out_dir: Path, result: StageResult, record: Mapping[str, object]) -> list[Path]:
     """Write tables (CSV), figures (PNG) and provenance.json into `out_dir`, all or nothing.
 
     Everything is written into a hidden sibling folder first, which then replaces `out_dir`; a failure
-    or a Ctrl-C on the way leaves the previous results untouched and no partial folder behind.
+    or a Ctrl-C on the way leaves the previous results untouched and no partial folder behind. Results
+    that another config file wrote there are replaced with a warning (`ResultsReplaced`).
     """
+    _warn_if_another_file_wrote(out_dir, record)
     out_dir.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.", dir=out_dir.parent))
     try:
