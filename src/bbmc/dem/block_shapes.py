@@ -20,6 +20,7 @@ from bbmc.dem.scene import (
 )
 from bbmc.rockmass.generate import GeometryError
 from bbmc.rockmass.generate import generate as generate_rock_mass
+from bbmc.rockmass.generate import possible_labels as rock_mass_labels
 
 SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope", "rock_mass")
 
@@ -79,6 +80,16 @@ def entry_shapes(
         held = [[] for _ in shapes]
     fixed = [sorted(set(h) | set(entry.fix)) for h in held]
     return shapes, fixed, labels, straight or [[] for _ in shapes]
+
+
+def possible_labels(entry: BlockEntry) -> list[str]:
+    """The labels the edges of the entry's blocks can carry: a polygon's `edge_labels`, a jointed
+    slope's joint.<set>, a rock mass's (`bbmc.rockmass.generate.possible_labels`); none otherwise."""
+    if entry.jointed_slope is not None:
+        return entry.jointed_slope.joint_labels
+    if entry.rock_mass is not None:
+        return rock_mass_labels(entry.rock_mass)
+    return [label for label in entry.edge_labels or [] if label]
 
 
 def edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[str]:
