@@ -267,7 +267,8 @@ JointLaw = Annotated[ConstantLaw | BartonBandisLaw | MobilizedLaw, Field(discrim
 
 class ContactRule(Section):
     """Contacts between the two groups (either order), with a dip in the range, and/or on an edge whose
-    label is `edges` or starts with `edges.` get `law`."""
+    label is `edges` or starts with `edges.` get `law`; `edges` must be a label the scene's edges can
+    carry, or the part of one before a dot (checked when the model is built)."""
 
     law: str
     groups: Names | None = None
