@@ -159,7 +159,7 @@ def test_a_contact_rule_can_select_labelled_edges():
         (
             lambda s: s["contacts"].update(rules=[{"law": "bridge", "edges": "brige"}]),
             "contacts.rules.0.edges",
-            "no edge is labelled",
+            "no edge can carry the label",
         ),
     ],
 )

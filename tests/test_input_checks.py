@@ -10,6 +10,7 @@ import re
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 import yaml
@@ -18,6 +19,8 @@ from click.testing import CliRunner, Result
 from bbmc import api, plausibility
 from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml, validate
+from bbmc.dem.model import build_model
+from bbmc.dem.polygons import joint_set_trace
 from bbmc.dem.scene import Scene
 from bbmc.plausibility import ImplausibleValue
 from bbmc.stages import audit, bench, fit, joint, joints, mc, shear, slope
@@ -153,6 +156,65 @@ def test_a_misspelt_choice_suggests_the_closest(tmp_path):
     tree["joint_laws"]["plane"]["law"] = "constant"
     with pytest.raises(ConfigError, match=r"key 'solver.time_step.mode': .*did you mean 'fixed'"):
         validate(tree, Scene, "s.yaml")
+
+
+# ---------------------------------------------------------------- the labels a contact rule names
+
+BENCHED = CONFIGS / "scenes" / "benched_rock_mass.yaml"
+FIRST_SLOPE = ROOT / "docs" / "examples" / "first-slope" / "slope.yaml"
+
+
+def _ruled(source: Path, edges: str, names: list[str | None]) -> dict:
+    """The scene with its first block's joint sets named `names` (None: no name) and a first contact
+    rule giving the law 'weak' (friction 20 deg) to the contacts on edges labelled `edges`."""
+    tree = yaml.safe_load(source.read_text())
+    shape = tree["blocks"][0].get("jointed_slope") or tree["blocks"][0]["rock_mass"]
+    for joint_set, name in zip(shape["joint_sets"], names, strict=True):
+        joint_set.pop("name", None)
+        joint_set.update({"name": name} if name else {})
+    tree["joint_laws"]["weak"] = tree["joint_laws"]["joint"] | {"friction_deg": 20}
+    tree["contacts"]["rules"] = [{"law": "weak", "edges": edges}, *tree["contacts"].get("rules", [])]
+    return tree
+
+
+@pytest.mark.parametrize(
+    ("source", "names", "edges", "key", "hint"),
+    [
+        (BENCHED, ["bedding", "cross"], "bridge.beding", "contacts.rules.0.edges", "'bridge.bedding'?"),
+        (BENCHED, ["bedding", "cross"], "bridge.Bedding", "contacts.rules.0.edges", "'bridge.bedding'?"),
+        (BENCHED, ["bedding", "cross"], "jiont.cross", "contacts.rules.0.edges", "'joint.cross'?"),
+        (FIRST_SLOPE, ["foliation", None], "joint.foliaton", "contacts.rules.0.edges", "'joint.foliation'?"),
+        (FIRST_SLOPE, [None, None], "joint.foliation", "contacts.rules.0.edges", "joint.J1"),
+        (FIRST_SLOPE, ["J2", None], "joint.J2", "blocks.0.jointed_slope", "'J2' is given twice"),
+    ],
+)
+def test_a_rule_on_a_label_no_edge_can_carry_is_refused_with_the_closest(
+    tmp_path, source, names, edges, key, hint
+):
+    """A misspelt label (wrong letters or case, or an unnamed set's) selected nothing and left its
+    contacts on the default law, the run going on: it is refused naming the file and the key, with the
+    closest label the scene's edges can carry; nothing is written."""
+    path = tmp_path / source.name
+    path.write_text(yaml.safe_dump(_ruled(source, edges, names)))
+    out = tmp_path / "out"
+    _refused(_invoke("run", path, "--results", out), out, str(path), f"key '{key}'", hint)
+
+
+def test_a_rule_on_a_named_set_of_a_jointed_slope_gives_its_joints_the_law():
+    """The slope's bedding named 'bedding' (the cross joints left unnamed: J2): `edges: joint.bedding`
+    gives the law 'weak' to exactly the contacts along a bedding joint, the others keep the default."""
+    tree = _ruled(FIRST_SLOPE, "joint.bedding", ["bedding", None])
+    tree["solver"]["steps"] = 20
+    model = build_model(api.load_scene(tree), FIRST_SLOPE)
+    assert model.label_names == ["", "joint.J2", "joint.bedding"]
+    assert model.rule_edges[0].tolist() == [False, False, True]
+    contacts = api.run(tree).contacts
+    bedding = tree["blocks"][0]["jointed_slope"]["joint_sets"][0]
+    *normal, factor = joint_set_trace(bedding["dip_deg"], bedding["dip_direction_to_face_deg"])
+    place = contacts[["x_m", "y_m"]].to_numpy() @ normal / (bedding["spacing_m"] / factor)
+    on_bedding = np.abs(place - np.round(place)) < 1e-3
+    assert on_bedding.any() and not on_bedding.all()
+    assert contacts["joint_law"].tolist() == np.where(on_bedding, "weak", "joint").tolist()
 
 
 # ---------------------------------------------------------------- plausible ranges

@@ -202,8 +202,9 @@ def _user_location(model: type[BaseModel], loc: tuple[Any, ...]) -> tuple[str, t
     return ".".join(keys), owner
 
 
-def _closest(word: str, choices: list[str], noun: str) -> str:
-    """' (did you mean ...?)' with the closest of `choices`, else the list of them."""
+def closest(word: str, choices: list[str], noun: str) -> str:
+    """' (did you mean ...?)' with the closest of `choices` to a misspelt `word`, else the list of them
+    (`noun`: what they are): the hint every refusal of a name gives."""
     close = difflib.get_close_matches(word, choices, n=1)
     return f" (did you mean '{close[0]}'?)" if close else f" (valid {noun}: {', '.join(choices)})"
 
@@ -212,7 +213,7 @@ def _describe(model: type[BaseModel], error: dict[str, Any]) -> str:
     key, owner = _user_location(model, tuple(error["loc"]))
     kind, context = error["type"], error.get("ctx") or {}
     if kind == "extra_forbidden":
-        hint = _closest(str(error["loc"][-1]), list(owner.model_fields), "keys") if owner else ""
+        hint = closest(str(error["loc"][-1]), list(owner.model_fields), "keys") if owner else ""
         return f"key '{key}': unknown key{hint}"
     if kind == "missing":
         return f"key '{key}': missing"
@@ -227,12 +228,12 @@ def _describe(model: type[BaseModel], error: dict[str, Any]) -> str:
             return f"key '{prefix}{field}': missing"
         key = prefix + field
         tags = re.findall(r"'([^']*)'", context["expected_tags"])
-        return f"key '{key}': unknown {field} '{context['tag']}'{_closest(context['tag'], tags, field + 's')}"
+        return f"key '{key}': unknown {field} '{context['tag']}'{closest(context['tag'], tags, field + 's')}"
     message = error["msg"].removeprefix("Value error, ")
     if not isinstance(error["input"], dict):  # a whole section is not repeated back
         message += f", got {error['input']!r}"
     if kind == "literal_error" and isinstance(error["input"], str):
-        message += _closest(error["input"], re.findall(r"'([^']*)'", context["expected"]), "values")
+        message += closest(error["input"], re.findall(r"'([^']*)'", context["expected"]), "values")
     return f"key '{key}': {message}" if key else message
 
 

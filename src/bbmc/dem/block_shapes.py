@@ -20,15 +20,21 @@ from bbmc.dem.scene import (
 )
 from bbmc.rockmass.generate import GeometryError
 from bbmc.rockmass.generate import generate as generate_rock_mass
+from bbmc.rockmass.generate import possible_labels as rock_mass_labels
 
 SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope", "rock_mass")
 
 
-def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]]]:
-    """The slope's blocks, and the degrees of freedom held for each: all three for a block with an
-    edge on a fixed boundary (a corner touching it is not enough)."""
+def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]], list[list[str]]]:
+    """The slope's blocks, the degrees of freedom held for each (all three for a block with an edge on
+    a fixed boundary: a corner touching it is not enough), and their edges' labels (joint.<set> on a
+    set's joint, '' elsewhere)."""
     dump = slope.model_dump()
     shapes = polygons.jointed_slope(**{k: v for k, v in dump.items() if k != "fixed_boundaries"})
+    labels = [
+        [slope.joint_labels[k] if k >= 0 else "" for k in edge_sets]
+        for edge_sets in polygons.joint_set_of_edges(shapes, dump["joint_sets"])
+    ]
     x_left, x_right, y_bottom, _ = polygons.slope_bounds(
         slope.height_m, slope.face_angle_deg, slope.crest_extent_m, slope.toe_extent_m, slope.depth_m
     )
@@ -42,18 +48,20 @@ def _slope_blocks(slope: JointedSlope) -> tuple[list[np.ndarray], list[list[str]
         ["x", "y", "rotation"] if any(sides[side](s).sum() >= 2 for side in slope.fixed_boundaries) else []
         for s in shapes
     ]
-    return shapes, held
+    return shapes, held, labels
 
 
 def entry_shapes(
     entry: BlockEntry, path: Path, key: str
 ) -> tuple[list[np.ndarray], list[list[str]], list[list[str]] | None, list[list[int]]]:
     """The entry's blocks (vertices as given, not yet turned), the degrees of freedom held for each,
-    their edges' labels (a rock mass's; None: from `edge_labels`) and the vertices of each that may be
+    their edges' labels (a generator's; None: from `edge_labels`) and the vertices of each that may be
     straight angles (where an edge's label changes)."""
+    if entry.edge_labels is not None and entry.polygon_m is None:
+        raise scene_error(path, f"{key}.edge_labels", "edge labels are given with polygon_m")
     labels, straight = None, None
     if entry.jointed_slope is not None:
-        shapes, held = _slope_blocks(entry.jointed_slope)
+        shapes, held, labels = _slope_blocks(entry.jointed_slope)
     elif entry.rock_mass is not None:
         try:
             mass = generate_rock_mass(entry.rock_mass)
@@ -74,13 +82,21 @@ def entry_shapes(
     return shapes, fixed, labels, straight or [[] for _ in shapes]
 
 
+def possible_labels(entry: BlockEntry) -> list[str]:
+    """The labels the edges of the entry's blocks can carry: a polygon's `edge_labels`, a jointed
+    slope's joint.<set>, a rock mass's (`bbmc.rockmass.generate.possible_labels`); none otherwise."""
+    if entry.jointed_slope is not None:
+        return entry.jointed_slope.joint_labels
+    if entry.rock_mass is not None:
+        return rock_mass_labels(entry.rock_mass)
+    return [label for label in entry.edge_labels or [] if label]
+
+
 def edge_labels(entry: BlockEntry, n_edges: int, path: Path, key: str) -> list[str]:
     """The labels of a block's edges in the engine's (counter-clockwise) order: a polygon's
     `edge_labels` as written (edge k from vertex k to k + 1), reversed with a clockwise polygon."""
     if entry.edge_labels is None:
         return [""] * n_edges
-    if entry.polygon_m is None:
-        raise scene_error(path, f"{key}.edge_labels", "edge labels are given with polygon_m")
     if len(entry.edge_labels) != n_edges:
         raise scene_error(
             path, f"{key}.edge_labels", f"give one label per edge: {n_edges}, got {len(entry.edge_labels)}"

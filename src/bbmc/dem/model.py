@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from bbmc import units
-from bbmc.config import validate
+from bbmc.config import closest, validate
 from bbmc.dem import layout as L
 from bbmc.dem import polygons
 from bbmc.dem.block_shapes import (
@@ -23,6 +23,7 @@ from bbmc.dem.block_shapes import (
     check_shapes,
     edge_labels,
     entry_shapes,
+    possible_labels,
     start_overlap_fault,
     turned,
 )
@@ -138,9 +139,6 @@ class Model:
         return int(max([*ends, *self.blocks[:, L.VSTART]], default=0))
 
 
-GENERATED_LABELS = ("joint", "bridge", "cut")  # a rock mass's labels: a realization may lack any of them
-
-
 def _water_table(scene: Scene, path: Path) -> np.ndarray:
     """The phreatic surface [m]: as given, or from the filling of a rock mass's tension crack
     (`bbmc.rockmass.profile.crack_water_table`); a level line at 0 without water (unit weight 0)."""
@@ -159,6 +157,24 @@ def _water_table(scene: Scene, path: Path) -> np.ndarray:
     crack = profile.tension_crack
     fill = water.tension_crack_fill_percent / 100.0
     return crack_water_table(profile.surface(), crack.distance_behind_crest_m, crack.depth_m, fill)
+
+
+def _rule_labels(scene: Scene) -> list[str]:
+    """What a contact rule's `edges` may name: every label the scene's edges can carry
+    (`possible_labels`: a realization may lack some) and each of its dotted prefixes (`bridge` for all
+    the bridge.<set>)."""
+    labels = {label for entry in scene.blocks for label in possible_labels(entry)}
+    parts = [label.split(".") for label in labels]
+    return sorted({".".join(p[:n]) for p in parts for n in range(1, len(p) + 1)})
+
+
+def _check_rule_edges(edges: str, scene: Scene, path: Path, key: str) -> None:
+    """ConfigError naming `key` and the closest valid label where no edge of the scene can carry `edges`
+    (a misspelt label would otherwise select nothing and leave its contacts on the default law)."""
+    choices = _rule_labels(scene)
+    if edges not in choices:
+        hint = closest(edges, choices, "labels") if choices else " (no edge of the scene carries a label)"
+        raise scene_error(path, key, f"no edge can carry the label '{edges}'{hint}")
 
 
 def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> int:
@@ -291,9 +307,8 @@ def build_model(scene: Scene, path: Path) -> Model:
         if rule.dip_deg:
             rule_dip[r] = np.array(rule.dip_deg) * units.deg
         if rule.edges is not None:
+            _check_rule_edges(rule.edges, scene, path, f"{key}.edges")
             rule_edges[r] = [x == rule.edges or x.startswith(rule.edges + ".") for x in label_names]
-            if not rule_edges[r].any() and rule.edges.split(".")[0] not in GENERATED_LABELS:
-                raise scene_error(path, f"{key}.edges", f"no edge is labelled '{rule.edges}'")
 
     block_loads = np.zeros((len(scene.loads.block_forces), 5))
     load_block = np.zeros(len(scene.loads.block_forces), dtype=np.int64)

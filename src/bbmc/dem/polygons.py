@@ -190,6 +190,7 @@ def rotated(vertices: np.ndarray, angle: float, about: np.ndarray) -> np.ndarray
     return (vertices - about) @ np.array([[c, s], [-s, c]]) + about
 
 
+ON_JOINT = 1e-6  # of a set's spacing: an edge's ends this close to one of its joints lie on it
 MAX_BLOCKS = 1_000_000  # blocks a generator makes at most (the engine needs about 3.6 kB per block)
 
 
@@ -311,6 +312,13 @@ def toe_split_direction(face_angle_deg: float, set_normals: list[np.ndarray]) ->
     return np.array([0.0, -1.0])
 
 
+def _section_lines(joint_set: dict) -> tuple[np.ndarray, float, float]:
+    """A set's joints in the section: the lines normal . x = offset + k spacing, as (unit normal,
+    offset [m], spacing [m]) from its dip, dip direction, true spacing and offset (`jointed_slope`)."""
+    trace = joint_set_trace(joint_set["dip_deg"], joint_set["dip_direction_to_face_deg"])
+    return trace[:2], joint_set["offset_m"] / trace[2], joint_set["spacing_m"] / trace[2]
+
+
 def _cut(piece: np.ndarray, normal: np.ndarray, offset: float, spacing: float) -> list[np.ndarray]:
     """A convex piece cut by the parallel lines normal . x = offset + k spacing."""
     projection = piece @ normal
@@ -342,29 +350,43 @@ def jointed_slope(
     through the toe (offset 0) where one can, so the split is a joint of that set. Pieces smaller than
     `min_block_fraction` of the median piece are dropped (slivers where a joint nearly meets a corner).
     """
-    traces = [joint_set_trace(s["dip_deg"], s["dip_direction_to_face_deg"]) for s in joint_sets]
+    lines = [_section_lines(s) for s in joint_sets]
     x_left, x_right, y_bottom, top = slope_bounds(
         height_m, face_angle_deg, crest_extent_m, toe_extent_m, depth_m
     )
     corners = np.array([[x_left, y_bottom], [x_right, y_bottom], [x_right, top], [x_left, top]])
     bound = 1.0
-    for trace, joint_set in zip(traces, joint_sets, strict=True):
-        bound *= np.ptp(corners @ trace[:2]) * trace[2] / joint_set["spacing_m"] + 2.0
+    for normal, _, spacing in lines:
+        bound *= np.ptp(corners @ normal) / spacing + 2.0
     if not bound <= MAX_BLOCKS:
         raise ValueError(
             f"the joint sets would cut the slope into up to {bound:.3g} blocks, more than {MAX_BLOCKS:,} "
             "(wider spacings)"
         )
-    through_toe = [t[:2] for t, s in zip(traces, joint_sets, strict=True) if s["offset_m"] == 0]
+    through_toe = [normal for normal, offset, _ in lines if offset == 0]
     split = toe_split_direction(face_angle_deg, through_toe)
     pieces = slope_profile_parts(height_m, face_angle_deg, crest_extent_m, toe_extent_m, depth_m, split)
-    for trace, joint_set in zip(traces, joint_sets, strict=True):
-        normal, spacing = trace[:2], joint_set["spacing_m"] / trace[2]
-        offset = joint_set["offset_m"] / trace[2]
+    for normal, offset, spacing in lines:
         pieces = [cell for piece in pieces for cell in _cut(piece, normal, offset, spacing)]
     areas = np.array([polygon_area(p) for p in pieces])
     smallest = min_block_fraction * np.median(areas)
     return [p for p, a in zip(pieces, areas, strict=True) if a >= smallest]
+
+
+def joint_set_of_edges(shapes: list[np.ndarray], joint_sets: list[dict]) -> list[list[int]]:
+    """For each edge of each of a jointed slope's blocks (edge k from vertex k to k + 1), the index of
+    the first set on one of whose joints it lies, -1 for none (the model's boundary, a split at the toe
+    along no set)."""
+    lines = [_section_lines(s) for s in joint_sets]
+    found = []
+    for shape in shapes:
+        ends = np.stack([shape, np.roll(shape, -1, axis=0)])  # (2, edges, 2): each edge's two ends
+        sets = np.full(len(shape), -1)
+        for k, (normal, offset, spacing) in reversed(list(enumerate(lines))):
+            place = (ends @ normal - offset) / spacing  # in spacings from the first joint
+            sets[np.all(np.abs(place - np.round(place[0])) < ON_JOINT, axis=0)] = k
+        found.append(sets.tolist())
+    return found
 
 
 GENERATORS: dict[str, Callable[..., list[np.ndarray]]] = {"brick_wall": brick_wall}

@@ -18,7 +18,7 @@ from bbmc.config import ConfigError, Section
 from bbmc.dem.polygons import MAX_BLOCKS
 from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
-from bbmc.rockmass.config import RockMassConfig
+from bbmc.rockmass.config import RockMassConfig, SetName, distinct_set_names
 from bbmc.support.config import Design, SupportElement
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
@@ -71,8 +71,10 @@ class BrickWall(Section):
 
 
 class JointSet(Section):
-    """A persistent set of parallel joints, as a geologist gives it."""
+    """A persistent set of parallel joints, as a geologist gives it; its joints' edges are labelled
+    joint.<name> (contact rules select them with `edges`)."""
 
+    name: SetName | None = None  # [J1, J2, ... in the order the sets are given]
     dip_deg: Annotated[float, Field(ge=0, le=90)]
     dip_direction_to_face_deg: Annotated[float, Field(ge=0, le=180)] = (
         0.0  # 0: out of the slope; 180: into it
@@ -100,6 +102,21 @@ class JointedSlope(Section):
     fixed_boundaries: list[Literal["left", "right", "bottom"]] = Field(
         default_factory=lambda: ["right", "bottom"]
     )  # blocks with an edge on these sides of the model have every degree of freedom held
+
+    @model_validator(mode="after")
+    def _distinct_names(self) -> JointedSlope:
+        distinct_set_names(self.set_names)
+        return self
+
+    @property
+    def set_names(self) -> list[str]:
+        """Each set's name: as given, else J<n> for the n-th set (J1 the first)."""
+        return [s.name or f"J{n}" for n, s in enumerate(self.joint_sets, start=1)]
+
+    @property
+    def joint_labels(self) -> list[str]:
+        """The label of each set's joints, joint.<name>: the labels the slope's edges can carry."""
+        return [f"joint.{name}" for name in self.set_names]
 
 
 class Velocity(Section):
@@ -250,7 +267,8 @@ JointLaw = Annotated[ConstantLaw | BartonBandisLaw | MobilizedLaw, Field(discrim
 
 class ContactRule(Section):
     """Contacts between the two groups (either order), with a dip in the range, and/or on an edge whose
-    label is `edges` or starts with `edges.` get `law`."""
+    label is `edges` or starts with `edges.` get `law`; `edges` must be a label the scene's edges can
+    carry, or the part of one before a dot (checked when the model is built)."""
 
     law: str
     groups: Names | None = None

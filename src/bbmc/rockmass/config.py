@@ -23,6 +23,14 @@ SetName = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")]
 CRACK = "tension_crack"  # the crack's edges are labelled joint.tension_crack: no set may take the name
 
 
+def distinct_set_names(names: list[str]) -> None:
+    """ValueError naming the first joint set that takes an earlier set's name (edges are labelled by
+    their set's name, so two sets of one name could not be told apart)."""
+    for number, name in enumerate(names):
+        if names.index(name) != number:
+            raise ValueError(f"joint_sets.{number}.name: '{name}' is given twice")
+
+
 class Constant(Section):
     distribution: Literal["constant"]
     value: Positive
@@ -221,14 +229,12 @@ class RockMassConfig(Section):
 
     @model_validator(mode="after")
     def _sets(self) -> RockMassConfig:
-        names = [s.name for s in self.joint_sets]
+        distinct_set_names([s.name for s in self.joint_sets])
         for number, joint_set in enumerate(self.joint_sets):
             if joint_set.name == CRACK:
                 raise ValueError(
                     f"joint_sets.{number}.name: '{CRACK}' is the tension crack's; choose another"
                 )
-            if names.index(joint_set.name) != number:
-                raise ValueError(f"joint_sets.{number}.name: '{joint_set.name}' is given twice")
             if joint_set.orientation is None:
                 continue
             if self.section_azimuth_deg is None:

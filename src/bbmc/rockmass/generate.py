@@ -73,6 +73,14 @@ class RockMass:
     seed: int
 
 
+def possible_labels(config: RockMassConfig) -> list[str]:
+    """The labels the edges of a realization of `config` can carry (a realization may lack any of them):
+    joint.<set> and bridge.<set> for each set, cut, and joint.tension_crack with a tension crack."""
+    sets = [f"{kind}.{s.name}" for s in config.joint_sets for kind in ("joint", "bridge")]
+    crack = [f"joint.{CRACK}"] if config.profile.tension_crack is not None else []
+    return [*sets, cut.CUT, *crack]
+
+
 def _with_crack(outline: np.ndarray, crest: np.ndarray, distance: float) -> tuple[np.ndarray, int]:
     """The outline with the crack's point on the ground behind the crest, and its index."""
     point = crest + np.array([distance, 0.0])
