@@ -107,27 +107,6 @@ def contact_frame(world, vertex_next, ea, eb, size, a, b):
 
 
 @numba.njit(cache=True)
-def end_to_end(world, vertex_next, ea, eb, margin):
-    """Whether edges ea (block A) and eb (block B) face each other as `contact_frame` asks but do not
-    overlap in projection on A's line, with an end of each no farther than `margin` from an end of the
-    other: two faces that meet end to end (on a straight boundary whose vertices differ on its two
-    sides, a joint's trace that ends at it, a junction of four blocks), which a move smaller than the
-    margin makes a contact. Returns (near, nx, ny, closed): A's outward normal and where the two ends
-    meet along the tangent t = (-n_y, n_x) [m]."""
-    ax, ay, tax, tay, la = edge_frame(world, vertex_next, ea)
-    bx, by, tbx, tby, lb = edge_frame(world, vertex_next, eb)
-    if tax * tbx + tay * tby >= -1e-9:
-        return False, 0.0, 0.0, 0.0
-    nearest, meet = math.inf, 0.0
-    for px, py in ((ax, ay), (ax + la * tax, ay + la * tay)):
-        for qx, qy in ((bx, by), (bx + lb * tbx, by + lb * tby)):
-            d = math.hypot(qx - px, qy - py)
-            if d < nearest:
-                nearest, meet = d, 0.5 * ((px + qx) * tax + (py + qy) * tay)
-    return nearest <= margin, tay, -tax, meet
-
-
-@numba.njit(cache=True)
 def share_middle(k, n_sub):
     """The middle of sub-contact k's share of a contact's overlap, as a fraction of the overlap [1]: the
     overlap is cut into n_sub equal shares, each integrated exactly (`contact_forces._normal_share`)."""

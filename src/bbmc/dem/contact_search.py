@@ -12,9 +12,8 @@ is a choice at the search, and dropping a loaded contact at one search but not a
 depend on when it searched. Other contacts the search no longer finds are dropped (open ones, and
 edges that have slid past a joint's end, deeper than the blocks overlap).
 
-Intact rock that first comes into contact after the initial assembly, or that in it only meets end to
-end (two blocks that touch at a point and later slide onto each other's faces), was never bonded: it
-is born the joint it breaks into."""
+Intact rock that first comes into contact after the initial assembly (two blocks that met corner to
+corner and slid onto each other's faces) was never bonded: it is born the joint it breaks into."""
 
 from __future__ import annotations
 
@@ -25,7 +24,7 @@ import numpy as np
 
 from bbmc.dem import contact_forces, joint_state, kernels
 from bbmc.dem import layout as L
-from bbmc.dem.detection import CORNER_REPLACED, OVERLAPPING, candidate_pairs, facing_edges
+from bbmc.dem.detection import CORNER_REPLACED, candidate_pairs, facing_edges
 from bbmc.dem.model import Model
 
 if TYPE_CHECKING:
@@ -51,16 +50,14 @@ def _joint_types(model: Model, found: np.ndarray, normal: np.ndarray) -> np.ndar
     return types
 
 
-def _born_types(
-    model: Model, state: State, found: np.ndarray, normal: np.ndarray, overlapping: np.ndarray
-) -> np.ndarray:
-    """`_joint_types` of contacts new at this search; a type of intact rock is replaced by the joint it
-    breaks into after the initial assembly, and in it where the two edges only meet end to end (they
-    share a point, not a stretch of rock)."""
+def _born_types(model: Model, state: State, found: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """`_joint_types` of contacts new at this search; after the initial assembly, a type of intact rock
+    is replaced by the joint it breaks into."""
     types = _joint_types(model, found, normal)
+    if state.step == 0:
+        return types
     joint = model.laws[types, L.BREAKS_INTO]
-    never_bonded = ~overlapping if state.step == 0 else np.ones(len(types), dtype=bool)
-    return np.where((joint >= 0) & never_bonded, joint, types)
+    return np.where(joint >= 0, joint, types)
 
 
 def _shares_any(state: State, share: np.ndarray) -> np.ndarray:
@@ -95,13 +92,12 @@ def search_contacts(model: Model, state: State) -> None:
     bonded = np.flatnonzero(_bonded(state))
     kept = np.union1d(old[stays], bonded[~np.isin(old_keys[bonded], new_keys)])
     fresh = (~known) & (status != CORNER_REPLACED)
-    overlapping = status[fresh] == OVERLAPPING
     contacts = np.concatenate(
         [
             state.contacts[kept],
-            np.column_stack(
-                [found[fresh], _born_types(model, state, found[fresh], normal[fresh], overlapping)]
-            ).astype(np.int64),
+            np.column_stack([found[fresh], _born_types(model, state, found[fresh], normal[fresh])]).astype(
+                np.int64
+            ),
         ]
     ).reshape(-1, L.CONTACT_COLUMNS)
     fresh = found[fresh]

@@ -14,10 +14,10 @@ import numba
 import numpy as np
 from numba.typed import List
 
-from bbmc.dem.contact_geometry import contact_frame, edge_frame, end_to_end
+from bbmc.dem.contact_geometry import contact_frame, edge_frame
 from bbmc.dem.layout import CORNER_ROUNDING
 
-END_TO_END, OVERLAPPING, CORNER_REPLACED = 0, 1, 2  # how a found edge pair meets (`facing_edges`)
+CONTACT, CORNER_REPLACED = 0, 1  # a found edge pair: a contact, or one the corner rule drops (`facing_edges`)
 
 
 @numba.njit(cache=True)
@@ -145,32 +145,27 @@ def _facing(world, vertex_next, e, other_nx, other_ny):
 @numba.njit(cache=True)
 def _candidate(world, vertex_start, vertex_next, size, margin, depth, a, b, ea, eb, bound_when_needed):
     """Whether edges ea and eb are in contact or about to be (see `facing_edges`), the separating-axis
-    depth bound (computed once per block pair, -1 until then), the pair's normal and closed end, and
-    whether they overlap now (else they meet end to end)."""
+    depth bound (computed once per block pair, -1 until then), and the pair's normal and closed end."""
     active, nx, ny, lo, hi, a_lo, a_hi, b_lo, b_hi = contact_frame(world, vertex_next, ea, eb, size, a, b)
     if not active:
-        near, nx, ny, closed = end_to_end(world, vertex_next, ea, eb, margin)
-        return near, depth, nx, ny, closed, False
+        return False, depth, 0.0, 0.0, 0.0
     gap = min(b_lo - a_lo, b_hi - a_hi)
     if gap > margin or not math.isfinite(gap):
-        return False, depth, 0.0, 0.0, 0.0, False
+        return False, depth, 0.0, 0.0, 0.0
     if gap < -0.01 * margin or not bound_when_needed:
         if depth < 0.0:
             depth = _depth_bound(world, vertex_start, vertex_next, size, margin, a, b)
         if gap < -depth:
-            return False, depth, 0.0, 0.0, 0.0, False
-    return True, depth, nx, ny, lo if b_lo - a_lo <= b_hi - a_hi else hi, True
+            return False, depth, 0.0, 0.0, 0.0
+    return True, depth, nx, ny, lo if b_lo - a_lo <= b_hi - a_hi else hi
 
 
 @numba.njit(cache=True)
 def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_when_needed):
     """Edge pairs (edge of a, edge of b) of each block pair that are in contact or about to be: their
     outward normals face each other at any angle below 90 degrees (a face, a corner against a face, a
-    corner against a corner; `contact_geometry.contact_frame`), and either they meet end to end within
-    the margin (`contact_geometry.end_to_end`: each step's `contact_frame` makes them a contact from the
-    step they overlap, so a boundary cut into edges at different points on its two sides, or a
-    junction of four blocks, gives the same contacts whenever the search runs) or they overlap on their
-    common line, and at the closer end of that overlap they are no farther apart than the margin and
+    corner against a corner; `contact_geometry.contact_frame`), they overlap on their common line, and
+    at the closer end of that overlap they are no farther apart than the margin and
     no deeper inside each other than the blocks overlap along their separating axis (plus 1 % of the
     margin) nor than a quarter of the smaller block's size. The separating-axis bound rejects edges of
     two blocks that meet corner to corner along a persistent joint: once one has slid past the other's
@@ -187,9 +182,9 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
     contact forms once one corner moves onto the other's face.
     `bound_when_needed`: compute the separating-axis bound only for a pair with an edge pair deeper
     than 1 % of the margin (no shallower one can fail it), else for every pair.
-    Returns int64 (n, 5): edge a, edge b, block a, block b, and how they meet: OVERLAPPING, END_TO_END,
-    or CORNER_REPLACED (a pair the corner rule above drops: listed so that the search can keep one
-    that is already a contact and loaded); and float64 (n, 2): each pair's normal
+    Returns int64 (n, 5): edge a, edge b, block a, block b, and CONTACT, or CORNER_REPLACED for a pair
+    the corner rule above drops (listed so that the search can keep one that is already a contact and
+    loaded); and float64 (n, 2): each pair's normal
     (`contact_geometry.contact_frame`)."""
     found, normals = List(), List()
     for k in range(pairs.shape[0]):
@@ -200,7 +195,7 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
         depth = -1.0
         for ea in range(first_a, last_a):
             for eb in range(first_b, last_b):
-                ok, depth, nx, ny, closed, overlapping = _candidate(
+                ok, depth, nx, ny, closed = _candidate(
                     world, vertex_start, vertex_next, size, margin, depth, a, b, ea, eb, bound_when_needed
                 )
                 if not ok:
@@ -220,7 +215,7 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
                     continue
                 if turn_a >= 0 or turn_b >= 0:
                     other_a, other_b = (turn_a, eb) if turn_a >= 0 else (ea, turn_b)
-                    replaced, depth, _, _, _, replaced_overlaps = _candidate(
+                    replaced, depth, _, _, _ = _candidate(
                         world,
                         vertex_start,
                         vertex_next,
@@ -233,11 +228,11 @@ def facing_edges(pairs, world, vertex_start, vertex_next, size, margin, bound_wh
                         other_b,
                         bound_when_needed,
                     )
-                    if replaced and replaced_overlaps:
+                    if replaced:
                         found.append((ea, eb, a, b, CORNER_REPLACED))
                         normals.append((nx, ny))
                         continue
-                found.append((ea, eb, a, b, OVERLAPPING if overlapping else END_TO_END))
+                found.append((ea, eb, a, b, CONTACT))
                 normals.append((nx, ny))
     out = np.empty((len(found), 5), dtype=np.int64)
     normal = np.empty((len(found), 2))

@@ -10,15 +10,19 @@ loading one as the other crashes the interpreter (seen with numba 0.68).
 import types
 
 import numba
+import numpy as np
 
 
-def numpy_law(kernel: numba.core.registry.CPUDispatcher) -> numba.np.ufunc.dufunc.DUFunc:
+def numpy_law(kernel: numba.core.registry.CPUDispatcher) -> numba.np.ufunc.dufunc.DUFunc | np.vectorize:
     """Return a lazily compiled, broadcasting ufunc that runs `kernel`'s source element by element.
 
     With NUMBA_DISABLE_JIT=1 (for debugging and coverage) `njit` returns the plain function, which is
-    then its own source.
+    then its own source, broadcast by `numpy.vectorize` (numba 0.68's `vectorize` compiles even then,
+    and cannot type the plain functions a law calls).
     """
     source = getattr(kernel, "py_func", kernel)
+    if numba.config.DISABLE_JIT:
+        return np.vectorize(source, otypes=[float])
     twin = types.FunctionType(
         source.__code__,
         source.__globals__,
