@@ -115,9 +115,12 @@ def _loaded_crack(towards: str = "-x") -> Model:
 def _reduction(model: Model, bracket: tuple[float, float], moved: bool = True) -> StrengthReductionResult:
     """A strength reduction's result as the search returns it, the mechanism a 10 mm shift of every
     block that is not held (drawn, not run: the figure is what is tested)."""
-    start = initial_state(model).world
-    held = np.all(model.dof == L.PRESCRIBED, axis=1)[model.vertex_block]
-    mechanism = start + np.where(held[:, None], 0.0, 0.01) if moved else None
+    state = initial_state(model)
+    start, blocks = state.world, state.blocks
+    held = np.all(model.dof == L.PRESCRIBED, axis=1)
+    mechanism = start + np.where(held[model.vertex_block, None], 0.0, 0.01) if moved else None
+    shifted = blocks.copy()
+    shifted[~held, L.X : L.Y + 1] += 0.01
     lo, hi = bracket
     bracketed = lo > 0.0 and hi < math.inf
     trial = Trial(hi, "unstable", "displacement", 100, 0.01, 1e-3, 0.1)
@@ -131,6 +134,9 @@ def _reduction(model: Model, bracket: tuple[float, float], moved: bool = True) -
         trials=[trial],
         start_world=start,
         mechanism_world=mechanism,
+        start_blocks=blocks,
+        stable_blocks=blocks,
+        mechanism_blocks=shifted if moved else None,
         failure_displacement_m=0.1,
         laws_losing_cohesion=[],
     )
