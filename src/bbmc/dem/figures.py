@@ -24,6 +24,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 from bbmc.dem.monitors import UNITS
 from bbmc.dem.strength_reduction import StrengthReductionResult
+from bbmc.rockmass.figure import edge_style, set_colours
 from bbmc.support.report import per_bolt_kN, support_lines
 
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
@@ -36,6 +37,14 @@ SEISMIC_BAND = 0.14  # room above the blocks for the seismic arrow, a fraction o
 
 def _outlines(model: Model, world: np.ndarray) -> list[np.ndarray]:
     return [world[a:b] for a, b in zip(model.vertex_start[:-1], model.vertex_start[1:], strict=True)]
+
+
+def shaped_figure(points: np.ndarray, dpi: int) -> Figure:
+    """A figure whose width follows the shape of the scene's `points` [m] (0.6 to 2 times as wide as
+    high), 5 inches high, with room for a colour bar."""
+    spread = np.ptp(points, axis=0)
+    wide = min(max(spread[0] / max(spread[1], 1e-12), 0.6), 2.0)
+    return Figure(figsize=(2.0 + 4.5 * wide, 5.0), dpi=dpi, layout="constrained")
 
 
 def _frame(ax: Axes, model: Model, points: np.ndarray) -> None:
@@ -111,6 +120,23 @@ def draw_support(ax: Axes, model: Model, blocks: np.ndarray, support: np.ndarray
     ax.figure.colorbar(drawn, ax=ax, shrink=0.7, label=f"bolt load{when} [kN/bolt]; top: largest capacity")
 
 
+def draw_edges(ax: Axes, model: Model, initial: np.ndarray, world: np.ndarray) -> None:
+    """Every labelled edge at `world` by what it is (`edge_style`: each joint set's joints solid and its
+    rock bridges dashed, in the set's colour; cuts dotted grey; the tension crack red), each kind in the
+    legend. An edge two blocks share (where they start, `initial`) is drawn once, so that dashes meet."""
+    labels = [model.label_names[k] for k in model.edge_label]
+    colours = set_colours(model.label_names)
+    segments: dict[str, list[np.ndarray]] = {}
+    seen = set()
+    for i, j in enumerate(model.vertex_next):
+        key = tuple(sorted(map(tuple, np.round(initial[[i, j]], 6))))
+        if labels[i] and key not in seen:
+            seen.add(key)
+            segments.setdefault(labels[i], []).append(world[[i, j]])
+    for label in sorted(segments, key=lambda label: (label.startswith("bridge"), label)):
+        ax.add_collection(LineCollection(segments[label], zorder=2.5, **edge_style(label, colours)))
+
+
 def scene_figure(
     model: Model,
     initial: np.ndarray,
@@ -120,9 +146,11 @@ def scene_figure(
     support: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Figure:
     """Block outlines at the start (dashed) and the end (solid); blocks with every degree of freedom
-    fixed or prescribed are shaded; the water and seismic loads as `draw_loads` draws them; with
-    `support` (the blocks' rows and the support's at the end), the bolts as `draw_support` draws them."""
-    fig = Figure(figsize=(8, 6), dpi=dpi, layout="constrained")
+    fixed or prescribed are shaded; the labelled edges by what they are, joint set, bridge or cut, as
+    `draw_edges` draws them; the water and seismic loads as `draw_loads` draws them; with `support`
+    (the blocks' rows and the support's at the end), the bolts as `draw_support` draws them."""
+    both = np.vstack([initial, final])
+    fig = shaped_figure(both, dpi)
     ax = fig.subplots()
     held = np.all(dof == L.PRESCRIBED, axis=1)
     colours = np.where(held, "0.8", "white")
@@ -145,7 +173,7 @@ def scene_figure(
             label="start",
         )
     )
-    both = np.vstack([initial, final])
+    draw_edges(ax, model, initial, final)
     _frame(ax, model, both)
     draw_loads(ax, model, both)
     if support is not None and len(model.support.names):
@@ -155,19 +183,34 @@ def scene_figure(
     return fig
 
 
-def history_figure(history: pd.DataFrame, dpi: int) -> Figure:
-    """Each monitored quantity against time, one panel each (columns named <monitor>_<unit>); the step
-    of each record is in history.csv."""
+RATIO_UNIT = UNITS["unbalanced_force_ratio"][0]  # the unit of no other quantity: marks the ratio's column
+
+
+def history_panel(ax: Axes, history: pd.DataFrame, column: str, target_ratio: float | None = None) -> None:
+    """One monitored quantity against time (its column named <monitor>_<unit>); the unbalanced-force
+    ratio on a log axis (its positive values), with `target_ratio`, the run's stop, as a labelled line."""
+    unit = next((u for u in SUFFIXES if column.endswith("_" + u)), "")
+    name = column.removesuffix("_" + unit)
+    values = history[column]
+    if unit == RATIO_UNIT:
+        ax.set_yscale("log")
+        values = values.where(values > 0)
+        if target_ratio is not None:
+            ax.axhline(target_ratio, color="tab:red", ls="--", lw=1.2, label=f"stop target {target_ratio:g}")
+    ax.plot(history["time_s"], values, "-", color="tab:blue", label=name)
+    ax.set_ylabel(f"{name} [{unit.replace('_per_', '/').replace('m_s', 'm/s')}]")
+    ax.legend(loc="best", fontsize="small")
+    ax.grid(alpha=0.3, which="both" if unit == RATIO_UNIT else "major")
+
+
+def history_figure(history: pd.DataFrame, dpi: int, target_ratio: float | None = None) -> Figure:
+    """Each monitored quantity against time, one panel each (`history_panel`; `target_ratio`: the
+    scene's solver.stop.unbalanced_force_ratio); the step of each record is in history.csv."""
     columns = [c for c in history.columns if c not in ("step", "time_s")]
     fig = Figure(figsize=(8, 1.0 + 2.2 * max(len(columns), 1)), dpi=dpi, layout="constrained")
     axes = np.atleast_1d(fig.subplots(max(len(columns), 1), 1, sharex=True, squeeze=False)[:, 0])
     for ax, column in zip(axes, columns, strict=False):
-        unit = next((u for u in SUFFIXES if column.endswith("_" + u)), "")
-        name = column.removesuffix("_" + unit)
-        ax.plot(history["time_s"], history[column], "-", color="tab:blue", label=name)
-        ax.set_ylabel(f"{name} [{unit.replace('_per_', '/').replace('m_s', 'm/s')}]")
-        ax.legend(loc="best", fontsize="small")
-        ax.grid(alpha=0.3)
+        history_panel(ax, history, column, target_ratio)
     axes[-1].set_xlabel("time [s]")
     return fig
 
@@ -294,9 +337,7 @@ def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) ->
     gives the FS (`fos_title`); the water and seismic loads as `draw_loads` draws them; the bolts at
     the blocks' start, coloured by their load in the last stable trial (`draw_support`)."""
     points = result.start_world
-    spread = np.ptp(points, axis=0)
-    wide = min(max(spread[0] / max(spread[1], 1e-12), 0.6), 2.0)  # the figure follows the scene's shape
-    fig = Figure(figsize=(2.0 + 4.5 * wide, 5.0), dpi=dpi, layout="constrained")
+    fig = shaped_figure(points, dpi)
     ax = fig.subplots()
     start = _outlines(model, result.start_world)
     if result.mechanism_world is None:
