@@ -1,8 +1,9 @@
-"""Figures of a block run: the blocks before and after, and the monitored histories; of a factor of
-safety: its mechanism and its trials. The loads beyond gravity are drawn where a scene has them: the
-phreatic surface as a blue line (level beyond its end points, as the engine extends it) and the
-pseudo-static seismic load as an arrow above the blocks, labelled with its k_h; bolts and anchors as
-lines coloured by their axial load (kN per bolt; ruptured ones dotted)."""
+"""Figures of a block run: the blocks before and after (their edges by label: joint sets, bridges,
+cuts), and the monitored histories; of a factor of safety: its mechanism and its trials. The loads
+beyond gravity are drawn where a scene has them: the phreatic surface as a blue line (level beyond its
+end points, as the engine extends it) and the pseudo-static seismic load as an arrow above the blocks,
+labelled with its k_h; bolts and anchors as lines coloured by their axial load (kN per bolt; ruptured
+ones dotted)."""
 
 from __future__ import annotations
 
@@ -121,9 +122,10 @@ def draw_support(ax: Axes, model: Model, blocks: np.ndarray, support: np.ndarray
 
 
 def draw_edges(ax: Axes, model: Model, initial: np.ndarray, world: np.ndarray) -> None:
-    """Every labelled edge at `world` by what it is (`edge_style`: each joint set's joints solid and its
-    rock bridges dashed, in the set's colour; cuts dotted grey; the tension crack red), each kind in the
-    legend. An edge two blocks share (where they start, `initial`) is drawn once, so that dashes meet."""
+    """Every labelled edge at `world` by what it is (`edge_style`: each joint set's joints solid in a
+    colour of their own and its rock bridges dashed in a dark shade of it; cuts dotted grey; the tension
+    crack red), each kind in the legend. An edge two blocks share (where they start, `initial`) is
+    drawn once, so that dashes meet."""
     labels = [model.label_names[k] for k in model.edge_label]
     colours = set_colours(model.label_names)
     segments: dict[str, list[np.ndarray]] = {}
