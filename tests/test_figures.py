@@ -1,7 +1,8 @@
 """No text of any figure a stage draws falls outside its canvas (a clipped title, a label run off the
 figure): every stage's figures, drawn and measured with matplotlib's own text extents. And the block
 figures show what loads a scene: its phreatic surface and its seismic load, the mechanism's FS, the
-monitors against time."""
+monitors against time (the unbalanced-force ratio on a log axis with its target), the edges by what
+they are, and the mechanism's arrows as the blocks moved, to a scale."""
 
 from __future__ import annotations
 
@@ -12,7 +13,9 @@ import numpy as np
 import pandas as pd
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
+from matplotlib.quiver import Quiver, QuiverKey
 from matplotlib.text import Annotation, Text
 
 from bbmc import api
@@ -21,6 +24,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.figures import (
     WATER_COLOUR,
     bracketing_figure,
+    colour_top,
     fos_title,
     history_figure,
     mechanism_figure,
@@ -115,9 +119,12 @@ def _loaded_crack(towards: str = "-x") -> Model:
 def _reduction(model: Model, bracket: tuple[float, float], moved: bool = True) -> StrengthReductionResult:
     """A strength reduction's result as the search returns it, the mechanism a 10 mm shift of every
     block that is not held (drawn, not run: the figure is what is tested)."""
-    start = initial_state(model).world
-    held = np.all(model.dof == L.PRESCRIBED, axis=1)[model.vertex_block]
-    mechanism = start + np.where(held[:, None], 0.0, 0.01) if moved else None
+    state = initial_state(model)
+    start, blocks = state.world, state.blocks
+    held = np.all(model.dof == L.PRESCRIBED, axis=1)
+    mechanism = start + np.where(held[model.vertex_block, None], 0.0, 0.01) if moved else None
+    shifted = blocks.copy()
+    shifted[~held, L.X : L.Y + 1] += 0.01
     lo, hi = bracket
     bracketed = lo > 0.0 and hi < math.inf
     trial = Trial(hi, "unstable", "displacement", 100, 0.01, 1e-3, 0.1)
@@ -131,6 +138,9 @@ def _reduction(model: Model, bracket: tuple[float, float], moved: bool = True) -
         trials=[trial],
         start_world=start,
         mechanism_world=mechanism,
+        start_blocks=blocks,
+        stable_blocks=blocks,
+        mechanism_blocks=shifted if moved else None,
         failure_displacement_m=0.1,
         laws_losing_cohesion=[],
     )
@@ -200,6 +210,80 @@ def test_history_is_drawn_against_time():
     fig = history_figure(history, 80)
     assert fig.axes[-1].get_xlabel() == "time [s]"
     np.testing.assert_array_equal(fig.axes[0].lines[0].get_xdata(), history["time_s"])
+
+
+def test_history_draws_the_unbalanced_force_ratio_on_a_log_axis_with_its_stop_target():
+    """The ratio's panel (unit 1) is logarithmic, its zero left out, with the stop target as a labelled
+    horizontal line; the other panels stay linear; without a target, no line."""
+    history = pd.DataFrame(
+        {
+            "step": [0, 100, 200],
+            "time_s": [0.0, 0.5, 1.0],
+            "toe_ux_mm": [0.0, -1.0, -1.5],
+            "balance_1": [0.0, 1e-2, 1e-6],
+        }
+    )
+    toe, ratio = history_figure(history, 80, target_ratio=1e-5).axes
+    assert toe.get_yscale() == "linear" and ratio.get_yscale() == "log"
+    target = [line for line in ratio.lines if line.get_label().startswith("stop target")]
+    assert len(target) == 1 and set(target[0].get_ydata()) == {1e-5}
+    assert "stop target 1e-05" in [t.get_text() for t in ratio.get_legend().get_texts()]
+    drawn = next(line for line in ratio.lines if line.get_label() == "balance").get_ydata()
+    assert np.isnan(drawn[0]) and drawn[-1] == 1e-6
+    assert [line.get_label() for line in history_figure(history, 80).axes[1].lines] == ["balance"]
+
+
+def test_scene_draws_each_joint_set_its_bridges_and_cuts_in_the_legend():
+    """The benched rock mass: each joint set in its own colour, the bedding's rock bridges dashed and
+    the fictitious cuts dotted, each named in the legend; every labelled edge drawn once."""
+    model = build_model(
+        api.load_scene(CONFIGS / "scenes" / "benched_rock_mass.yaml"), Path("benched_rock_mass.yaml")
+    )
+    world = initial_state(model).world
+    fig = scene_figure(model, world, world, model.dof, 80)
+    edges = {c.get_label(): c for c in fig.axes[0].collections if isinstance(c, LineCollection)}
+    kinds = {"bedding joints", "cross joints", "bedding bridges", "cut (intact rock)"}
+    assert set(edges) == kinds
+    assert kinds <= {t.get_text() for t in fig.legends[0].get_texts()}
+    colours = {label: tuple(edges[label].get_colors()[0]) for label in kinds}
+    assert len(set(colours.values())) == 4
+    assert edges["bedding joints"].get_linestyle()[0][1] is None
+    assert edges["bedding bridges"].get_linestyle()[0][1] is not None
+    assert edges["cut (intact rock)"].get_linestyle()[0][1] is not None
+    bridges = sum(name.startswith("bridge") for name in np.array(model.label_names)[model.edge_label])
+    assert len(edges["bedding bridges"].get_segments()) < bridges  # each shared one once
+    _assert_inside({"scene": fig})
+
+
+def test_the_colour_scale_of_the_mechanism_is_not_set_by_one_sliver():
+    """The top of the colour scale: the largest displacement where no block stands out, the one below
+    which 95 % of the area lies where one small block moved far more than the rest."""
+    area = np.array([10.0, 10.0, 10.0, 0.1])
+    assert colour_top(np.array([1.0, 2.0, 3.0, 3.5]), area) == 3.5
+    assert colour_top(np.array([1.0, 2.0, 3.0, 50.0]), area) == 3.0
+
+
+def test_the_mechanism_arrows_point_as_the_blocks_moved_end_inside_the_axes_and_have_a_scale():
+    """A block moved 35 degrees down to the left: its arrow is drawn in data units (xy angles and
+    scale on equal axes) so that it points at 35 degrees whatever the figure's shape, it ends inside
+    the axes, and a scale arrow is labelled in mm."""
+    model = _loaded_crack()
+    result = _reduction(model, (1.1, 1.12))
+    free = ~np.all(model.dof == L.PRESCRIBED, axis=1)
+    angle = math.radians(35.0)
+    result.mechanism_blocks[free, L.X] = result.start_blocks[free, L.X] - 0.004 * math.cos(angle)
+    result.mechanism_blocks[free, L.Y] = result.start_blocks[free, L.Y] - 0.004 * math.sin(angle)
+    ax = mechanism_figure(model, result, 80).axes[0]
+    assert ax.get_aspect() == 1.0
+    (arrows,) = [c for c in ax.collections if isinstance(c, Quiver)]
+    assert arrows.angles == "xy" and arrows.scale_units == "xy"
+    tail, (u, v) = arrows.get_offsets()[0], (arrows.U[0], arrows.V[0])
+    assert math.degrees(math.atan2(v, u)) == pytest.approx(-145.0)
+    tip = tail + np.array([u, v]) / arrows.scale
+    (left, right), (bottom, top) = ax.get_xlim(), ax.get_ylim()
+    assert left < tip[0] < right and bottom < tip[1] < top
+    (key,) = [c for c in ax.get_children() if isinstance(c, QuiverKey)]
+    assert key.text.get_text() == "2 mm" and key.U == 2.0
 
 
 def test_run_fos_and_sweep_figures_draw_every_text_inside_the_canvas(tmp_path):

@@ -169,13 +169,28 @@ HAND_WRITTEN = ROOT / "configs" / "scenes" / "planar_crack.yaml"
 
 def test_bbmc_fos_runs_the_hand_written_scene(tmp_path):
     """configs/scenes/planar_crack.yaml, written by hand from docs/scene-format.md: its FS within 1 % of
-    Hoek & Bray's for the crack half full (1.115), and every file of the stage written."""
+    Hoek & Bray's for the crack half full (1.115), and every file of the stage written; mechanism.csv
+    has one row per block for the last stable and the first unstable trial, at the summary's factors,
+    and the sliding block has moved further, down the plane, in the failing one."""
     outcome = CliRunner().invoke(main, ["fos", "--config", str(HAND_WRITTEN), "--results", str(tmp_path)])
     assert outcome.exit_code == 0, outcome.output
     folder = tmp_path / "fos" / "planar_crack"
-    names = {"fos.csv", "summary.csv", "mechanism.png", "bracketing.png", "provenance.json"}
+    names = {"fos.csv", "summary.csv", "mechanism.csv", "mechanism.png", "bracketing.png", "provenance.json"}
     assert names <= {p.name for p in folder.iterdir()}
     summary = pd.read_csv(folder / "summary.csv").set_index("quantity")["value"]
+    mechanism = pd.read_csv(folder / "mechanism.csv")
+    assert list(mechanism.columns) == [
+        "trial", "factor", "block", "x_m", "y_m", "ux_mm", "uy_mm", "rotation_deg",
+        "vx_m_s", "vy_m_s", "angular_velocity_deg_s",
+    ]  # fmt: skip
+    blocks = build_model(load_config(HAND_WRITTEN, Scene), HAND_WRITTEN).block_names
+    by_trial = {kind: rows.set_index("block") for kind, rows in mechanism.groupby("trial")}
+    assert set(by_trial) == {"last_stable", "first_unstable"}
+    for kind, factor in (("last_stable", "last_stable_factor"), ("first_unstable", "first_unstable_factor")):
+        assert sorted(by_trial[kind].index) == sorted(blocks)
+        assert by_trial[kind]["factor"].tolist() == pytest.approx([summary[factor]] * len(blocks))
+    moved = {kind: rows["ux_mm"].abs().max() for kind, rows in by_trial.items()}
+    assert moved["first_unstable"] > moved["last_stable"]
     expected = CASES["hoek_bray_half_full"].expected
     assert summary["factor_of_safety"] == pytest.approx(expected, rel=0.01)
     trials = pd.read_csv(folder / "fos.csv")

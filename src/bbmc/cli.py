@@ -256,9 +256,10 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
     Example:
       bbmc fos configs/scenes/planar_crack.yaml
     writes results/fos/<scene name>/fos.csv (every trial: F, verdict, steps, largest displacement,
-    wall time), summary.csv (factor_of_safety, trials, time), mechanism.png, bracketing.png,
-    provenance.json; with support, also without it and support.csv; with a design: section,
-    design.csv. Each trial is reported on stderr once the search has lasted 2 s.
+    wall time), summary.csv (factor_of_safety, trials, time), mechanism.csv (every block's ux_mm,
+    uy_mm, rotation_deg and velocity at the end of the last stable and the first unstable trial),
+    mechanism.png, bracketing.png, provenance.json; with support, also without it and support.csv;
+    with a design: section, design.csv. Each trial is reported on stderr once the search has lasted 2 s.
     """
     with reported(fos_stage.NAME, strict):
         scene = _with_threads(load_config(config_path, fos_stage.Config), threads)

@@ -1,8 +1,9 @@
-"""Figures of a block run: the blocks before and after, and the monitored histories; of a factor of
-safety: its mechanism and its trials. The loads beyond gravity are drawn where a scene has them: the
-phreatic surface as a blue line (level beyond its end points, as the engine extends it) and the
-pseudo-static seismic load as an arrow above the blocks, labelled with its k_h; bolts and anchors as
-lines coloured by their axial load (kN per bolt; ruptured ones dotted)."""
+"""Figures of a block run: the blocks before and after (their edges by label: joint sets, bridges,
+cuts), and the monitored histories; of a factor of safety: its mechanism and its trials. The loads
+beyond gravity are drawn where a scene has them: the phreatic surface as a blue line (level beyond its
+end points, as the engine extends it) and the pseudo-static seismic load as an arrow above the blocks,
+labelled with its k_h; bolts and anchors as lines coloured by their axial load (kN per bolt; ruptured
+ones dotted)."""
 
 from __future__ import annotations
 
@@ -24,6 +25,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 from bbmc.dem.monitors import UNITS
 from bbmc.dem.strength_reduction import StrengthReductionResult
+from bbmc.rockmass.figure import edge_style, set_colours
 from bbmc.support.report import per_bolt_kN, support_lines
 
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
@@ -36,6 +38,14 @@ SEISMIC_BAND = 0.14  # room above the blocks for the seismic arrow, a fraction o
 
 def _outlines(model: Model, world: np.ndarray) -> list[np.ndarray]:
     return [world[a:b] for a, b in zip(model.vertex_start[:-1], model.vertex_start[1:], strict=True)]
+
+
+def shaped_figure(points: np.ndarray, dpi: int) -> Figure:
+    """A figure whose width follows the shape of the scene's `points` [m] (0.6 to 2 times as wide as
+    high), 5 inches high, with room for a colour bar."""
+    spread = np.ptp(points, axis=0)
+    wide = min(max(spread[0] / max(spread[1], 1e-12), 0.6), 2.0)
+    return Figure(figsize=(2.0 + 4.5 * wide, 5.0), dpi=dpi, layout="constrained")
 
 
 def _frame(ax: Axes, model: Model, points: np.ndarray) -> None:
@@ -111,6 +121,24 @@ def draw_support(ax: Axes, model: Model, blocks: np.ndarray, support: np.ndarray
     ax.figure.colorbar(drawn, ax=ax, shrink=0.7, label=f"bolt load{when} [kN/bolt]; top: largest capacity")
 
 
+def draw_edges(ax: Axes, model: Model, initial: np.ndarray, world: np.ndarray) -> None:
+    """Every labelled edge at `world` by what it is (`edge_style`: each joint set's joints solid in a
+    colour of their own and its rock bridges dashed in a dark shade of it; cuts dotted grey; the tension
+    crack red), each kind in the legend. An edge two blocks share (where they start, `initial`) is
+    drawn once, so that dashes meet."""
+    labels = [model.label_names[k] for k in model.edge_label]
+    colours = set_colours(model.label_names)
+    segments: dict[str, list[np.ndarray]] = {}
+    seen = set()
+    for i, j in enumerate(model.vertex_next):
+        key = tuple(sorted(map(tuple, np.round(initial[[i, j]], 6))))
+        if labels[i] and key not in seen:
+            seen.add(key)
+            segments.setdefault(labels[i], []).append(world[[i, j]])
+    for label in sorted(segments, key=lambda label: (label.startswith("bridge"), label)):
+        ax.add_collection(LineCollection(segments[label], zorder=2.5, **edge_style(label, colours)))
+
+
 def scene_figure(
     model: Model,
     initial: np.ndarray,
@@ -120,9 +148,11 @@ def scene_figure(
     support: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Figure:
     """Block outlines at the start (dashed) and the end (solid); blocks with every degree of freedom
-    fixed or prescribed are shaded; the water and seismic loads as `draw_loads` draws them; with
-    `support` (the blocks' rows and the support's at the end), the bolts as `draw_support` draws them."""
-    fig = Figure(figsize=(8, 6), dpi=dpi, layout="constrained")
+    fixed or prescribed are shaded; the labelled edges by what they are, joint set, bridge or cut, as
+    `draw_edges` draws them; the water and seismic loads as `draw_loads` draws them; with `support`
+    (the blocks' rows and the support's at the end), the bolts as `draw_support` draws them."""
+    both = np.vstack([initial, final])
+    fig = shaped_figure(both, dpi)
     ax = fig.subplots()
     held = np.all(dof == L.PRESCRIBED, axis=1)
     colours = np.where(held, "0.8", "white")
@@ -145,7 +175,7 @@ def scene_figure(
             label="start",
         )
     )
-    both = np.vstack([initial, final])
+    draw_edges(ax, model, initial, final)
     _frame(ax, model, both)
     draw_loads(ax, model, both)
     if support is not None and len(model.support.names):
@@ -155,52 +185,174 @@ def scene_figure(
     return fig
 
 
-def history_figure(history: pd.DataFrame, dpi: int) -> Figure:
-    """Each monitored quantity against time, one panel each (columns named <monitor>_<unit>); the step
-    of each record is in history.csv."""
+RATIO_UNIT = UNITS["unbalanced_force_ratio"][0]  # the unit of no other quantity: marks the ratio's column
+
+
+def history_panel(ax: Axes, history: pd.DataFrame, column: str, target_ratio: float | None = None) -> None:
+    """One monitored quantity against time (its column named <monitor>_<unit>); the unbalanced-force
+    ratio on a log axis (its positive values), with `target_ratio`, the run's stop, as a labelled line."""
+    unit = next((u for u in SUFFIXES if column.endswith("_" + u)), "")
+    name = column.removesuffix("_" + unit)
+    values = history[column]
+    if unit == RATIO_UNIT:
+        ax.set_yscale("log")
+        values = values.where(values > 0)
+        if target_ratio is not None:
+            ax.axhline(target_ratio, color="tab:red", ls="--", lw=1.2, label=f"stop target {target_ratio:g}")
+    ax.plot(history["time_s"], values, "-", color="tab:blue", label=name)
+    ax.set_ylabel(f"{name} [{unit.replace('_per_', '/').replace('m_s', 'm/s')}]")
+    ax.legend(loc="best", fontsize="small")
+    ax.grid(alpha=0.3, which="both" if unit == RATIO_UNIT else "major")
+
+
+def history_figure(history: pd.DataFrame, dpi: int, target_ratio: float | None = None) -> Figure:
+    """Each monitored quantity against time, one panel each (`history_panel`; `target_ratio`: the
+    scene's solver.stop.unbalanced_force_ratio); the step of each record is in history.csv."""
     columns = [c for c in history.columns if c not in ("step", "time_s")]
     fig = Figure(figsize=(8, 1.0 + 2.2 * max(len(columns), 1)), dpi=dpi, layout="constrained")
     axes = np.atleast_1d(fig.subplots(max(len(columns), 1), 1, sharex=True, squeeze=False)[:, 0])
     for ax, column in zip(axes, columns, strict=False):
-        unit = next((u for u in SUFFIXES if column.endswith("_" + u)), "")
-        name = column.removesuffix("_" + unit)
-        ax.plot(history["time_s"], history[column], "-", color="tab:blue", label=name)
-        ax.set_ylabel(f"{name} [{unit.replace('_per_', '/').replace('m_s', 'm/s')}]")
-        ax.legend(loc="best", fontsize="small")
-        ax.grid(alpha=0.3)
+        history_panel(ax, history, column, target_ratio)
     axes[-1].set_xlabel("time [s]")
     return fig
 
 
+COLOUR_QUANTILE = 0.95  # mechanism.png: the colour scale's top, at most this quantile of the free area...
+OUTLIER_RATIO = 2.0  # ... where the largest displacement is more than this many times that quantile
+ARROW_SHARE = 0.15  # mechanism.png: the longest arrow, at most this fraction of the scene's extent
+SHORTEST_ARROW = 0.05  # mechanism.png: arrows shorter than this fraction of the longest are left out
+
+
+def colour_top(moved: np.ndarray, area: np.ndarray) -> float:
+    """The top of the colour scale for the blocks' displacements `moved` (any unit): the largest, unless
+    it is more than `OUTLIER_RATIO` times the displacement below which `COLOUR_QUANTILE` of the blocks'
+    `area` lies, then that displacement; so one sliver that moves far does not set the scale."""
+    order = np.argsort(moved)
+    share = np.cumsum(area[order]) / max(float(np.sum(area)), 1e-300)
+    quantile = float(moved[order][min(np.searchsorted(share, COLOUR_QUANTILE), len(order) - 1)])
+    largest = float(moved.max(initial=0.0))
+    return quantile if largest > OUTLIER_RATIO * quantile else largest
+
+
+def _nice_length(largest: float) -> float:
+    """The largest 1, 2 or 5 x 10^k not above `largest` (> 0): the scale arrow's length."""
+    power = 10.0 ** math.floor(math.log10(largest))
+    return max(step * power for step in (1.0, 2.0, 5.0) if step * power <= largest * (1 + 1e-12))
+
+
+def _fitting_scale(centre: np.ndarray, shift: np.ndarray, low: np.ndarray, high: np.ndarray) -> float:
+    """The largest length per unit of `shift` with which every arrow from `centre` ends within the box
+    [low, high] (x and y)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        limit = np.where(shift > 0, high - centre, low - centre) / shift
+    return float(np.min(limit[np.isfinite(limit)], initial=np.inf))
+
+
+def _key_on_left(model: Model, points: np.ndarray) -> bool:
+    """Whether the scale arrow goes in the upper left corner: the side away from the seismic arrow's
+    label (on the side the load points to), else the side where the blocks are lower."""
+    seismic = model.scene.seismic
+    if seismic is not None:
+        return seismic.towards == "+x"
+    x = points[:, 0]
+    middle = 0.5 * (x.min() + x.max())
+    return bool(points[x <= middle, 1].max() <= points[x >= middle, 1].max())
+
+
+def _draw_arrows(
+    ax: Axes, model: Model, centre: np.ndarray, shift_mm: np.ndarray, points: np.ndarray
+) -> None:
+    """Each centroid's displacement [mm] as an arrow from it, in its measured direction (`angles="xy"`
+    on equal axes) and to one length scale: the longest `ARROW_SHARE` of the scene's extent, or shorter
+    so that every arrow ends inside the axes (those under `SHORTEST_ARROW` of it left out); and a scale
+    arrow labelled in mm in an upper corner (`_key_on_left`)."""
+    length = np.hypot(*shift_mm.T)
+    largest = float(length.max(initial=0.0))
+    if largest <= 0.0:
+        return
+    shown = length >= SHORTEST_ARROW * largest
+    (left, right), (bottom, top) = ax.get_xlim(), ax.get_ylim()
+    reach = ARROW_SHARE * float(np.ptp(points, axis=0).max()) / largest
+    inside = _fitting_scale(centre[shown], shift_mm[shown], np.array([left, bottom]), np.array([right, top]))
+    per_mm = min(reach, 0.98 * inside)  # [m of the figure per mm of displacement]
+    arrows = ax.quiver(
+        *centre[shown].T,
+        *shift_mm[shown].T,
+        angles="xy",
+        scale_units="xy",
+        scale=1.0 / per_mm,
+        units="inches",
+        width=0.025,
+        color="white",
+        edgecolor="k",
+        linewidth=0.6,
+        zorder=3,
+    )
+    key = _nice_length(largest)
+    half = 0.5 * key * per_mm / (right - left)  # half the scale arrow, a fraction of the axes' width
+    ax.quiverkey(
+        arrows,
+        0.03 + half if _key_on_left(model, points) else 0.97 - half,
+        0.95,
+        key,
+        f"{key:g} mm",
+        labelpos="S",
+        coordinates="axes",
+        fontproperties={"size": "small"},
+    )
+
+
+def _shade_blocks(ax: Axes, model: Model, start: list[np.ndarray], moved: np.ndarray) -> None:
+    """The blocks shaded by `moved` [mm] up to `colour_top` of the free blocks (beyond it red, the colour
+    bar's arrow, its label giving their range); the fixed ones grey."""
+    held = np.all(model.dof == L.PRESCRIBED, axis=1)
+    free = moved[~held]
+    top = colour_top(free, model.blocks[~held, L.SIZE] ** 2) if len(free) else 0.0
+    cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85", over="tab:red")
+    cells = PolyCollection(
+        start,
+        array=np.where(held, np.nan, moved),
+        cmap=cmap,
+        norm=Normalize(0.0, max(top, 1e-9)),
+        edgecolors="k",
+        linewidths=0.5,
+    )
+    ax.add_collection(cells)
+    largest = float(free.max(initial=0.0))
+    red = f"red: {top:.3g} to {largest:.3g} mm (beyond {COLOUR_QUANTILE:.0%} of the free area)\n"
+    ax.figure.colorbar(
+        cells,
+        ax=ax,
+        shrink=0.8,
+        extend="max" if largest > top else "neither",
+        label="largest displacement of the block [mm]\n" + (red if largest > top else "") + "grey: fixed",
+    )
+
+
 def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) -> Figure:
-    """The failure mechanism: every block where the trials start, shaded by how far it has moved at the
-    end of the lowest unstable trial, with its centroid's displacement as an arrow (scaled to be seen);
-    the title gives the FS (`fos_title`); the water and seismic loads as `draw_loads` draws them; the
-    bolts at the blocks' start, coloured by their load in the last stable trial (`draw_support`)."""
+    """The failure mechanism: every block where the trials start, shaded by how far it has moved (its
+    farthest vertex) at the end of the lowest unstable trial, with its centroid's displacement as an
+    arrow to the scale of a labelled scale arrow (`_draw_arrows`). The colour scale ends at the largest
+    displacement, or, where that is more than twice the displacement below which 95 % of the free
+    blocks' area lies, at the latter (`colour_top`), so that one sliver does not set it: the blocks
+    beyond it are red, the colour bar's label giving their range. The title
+    gives the FS (`fos_title`); the water and seismic loads as `draw_loads` draws them; the bolts at
+    the blocks' start, coloured by their load in the last stable trial (`draw_support`)."""
     points = result.start_world
-    spread = np.ptp(points, axis=0)
-    wide = min(max(spread[0] / max(spread[1], 1e-12), 0.6), 2.0)  # the figure follows the scene's shape
-    fig = Figure(figsize=(2.0 + 4.5 * wide, 5.0), dpi=dpi, layout="constrained")
+    fig = shaped_figure(points, dpi)
     ax = fig.subplots()
     start = _outlines(model, result.start_world)
-    held = np.all(model.dof == L.PRESCRIBED, axis=1)
     if result.mechanism_world is None:
         moved = np.zeros(len(start))
     else:
         end = _outlines(model, result.mechanism_world)
         moved = np.array([np.max(np.hypot(*(e - s).T)) for s, e in zip(start, end, strict=True)]) * 1e3
-    colours = np.where(held, np.nan, moved)
-    cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
-    cells = PolyCollection(start, array=colours, cmap=cmap, edgecolors="k", linewidths=0.5)
-    cells.set_clim(0.0, max(float(np.nanmax(colours, initial=0.0)), 1e-9))
-    ax.add_collection(cells)
-    fig.colorbar(cells, ax=ax, shrink=0.8, label="largest displacement of the block [mm] (grey: fixed)")
-    if result.mechanism_world is not None:
-        centre = np.array([s.mean(axis=0) for s in start])
-        shift = np.array([e.mean(axis=0) for e in end]) - centre
-        free = ~held & (np.hypot(*shift.T) > 0)
-        ax.quiver(*centre[free].T, *shift[free].T, color="tab:red", angles="xy", width=0.004, zorder=3)
+    _shade_blocks(ax, model, start, moved)
     _frame(ax, model, points)
+    if result.mechanism_blocks is not None:
+        free = ~np.all(model.dof == L.PRESCRIBED, axis=1)
+        shift = result.moved(result.mechanism_blocks)[free, :2] * 1e3
+        _draw_arrows(ax, model, result.start_blocks[free][:, [L.X, L.Y]], shift, points)
     draw_loads(ax, model, points)
     if len(model.support.names):
         draw_support(ax, model, model.blocks, result.support_state, ", last stable trial")

@@ -88,12 +88,23 @@ class StrengthReductionResult:
     trials: list[Trial]
     start_world: np.ndarray  # the vertices at the start of every trial [m]
     mechanism_world: np.ndarray | None  # the vertices at the end of the lowest unstable trial [m]
+    # the blocks' rows (`layout`) at the start of every trial, at the end of the highest stable trial
+    # (the start state where none ran: F = 1 holds by the equilibrium) and of the lowest unstable one
+    start_blocks: np.ndarray
+    stable_blocks: np.ndarray
+    mechanism_blocks: np.ndarray | None
     failure_displacement_m: float
     laws_losing_cohesion: list[
         str
     ]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
     # the support elements' rows at the end of the highest stable trial (none without support)
     support_state: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, L.SUPPORT_COLUMNS)))
+
+    def moved(self, end: np.ndarray) -> np.ndarray:
+        """Each block's centroid displacement x, y [m] and rotation [rad] from the start of the trials to
+        `end` (the blocks' rows at the end of one: `stable_blocks`, `mechanism_blocks`)."""
+        columns = [L.X, L.Y, L.TH]
+        return end[:, columns] - self.start_blocks[:, columns]
 
     @property
     def progressive_note(self) -> str:
@@ -234,10 +245,11 @@ def factor_of_safety(
     window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * response))
     progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
     trials: list[Trial] = []
-    mechanism, held = None, equilibrium.support.copy()
+    mechanism, mechanism_blocks = None, None
+    held, stable_blocks = equilibrium.support.copy(), equilibrium.blocks.copy()
 
     def attempt(factor: float) -> bool:
-        nonlocal mechanism, held
+        nonlocal mechanism, mechanism_blocks, held, stable_blocks
         state = copy_state(equilibrium)
         trial_model = _with_params(
             model,
@@ -275,9 +287,9 @@ def factor_of_safety(
             f"{trial.seconds:.1f} s)"
         )
         if verdict == UNSTABLE and all(t.factor >= factor for t in trials if t.verdict == UNSTABLE):
-            mechanism = state.world.copy()
+            mechanism, mechanism_blocks = state.world.copy(), state.blocks.copy()
         if verdict == STABLE and all(t.factor <= factor for t in trials if t.verdict == STABLE):
-            held = state.support.copy()
+            held, stable_blocks = state.support.copy(), state.blocks.copy()
         return verdict == STABLE
 
     largest = settings.largest_factor
@@ -308,4 +320,7 @@ def factor_of_safety(
         failure_displacement_m=failure,
         laws_losing_cohesion=model.laws_losing_cohesion,
         support_state=held,
+        start_blocks=equilibrium.blocks.copy(),
+        stable_blocks=stable_blocks,
+        mechanism_blocks=mechanism_blocks,
     )

@@ -3,9 +3,10 @@
 
 Writes into <results>/fos/<scene name>/: fos.csv (every trial: F, verdict, why, steps, largest
 displacement, unbalanced-force ratio, wall time), summary.csv (`quantity,value,unit`, with the row
-factor_of_safety), mechanism.png (displacement at the end of the lowest unstable trial),
-bracketing.png (the trials' F in order) and provenance.json. With a `support:` section: the FS is
-found with the support and again without it (summary rows factor_of_safety and
+factor_of_safety), mechanism.csv (every block's displacement, rotation and velocity at the end of the
+highest stable and of the lowest unstable trial), mechanism.png (displacement at the end of the lowest
+unstable trial), bracketing.png (the trials' F in order) and provenance.json. With a `support:`
+section: the FS is found with the support and again without it (summary rows factor_of_safety and
 factor_of_safety_without_support), and support.csv gives each element's load at the end of the
 highest stable trial. With a `design:` section: design.csv, every trial of the search for the support
 that reaches the target FS (`bbmc.support.design`), and its result in summary.csv.
@@ -19,10 +20,13 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
+from bbmc import units
+from bbmc.dem import layout as L
 from bbmc.dem.figures import bracketing_figure, mechanism_figure
-from bbmc.dem.model import build_model
+from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.io import StageResult
@@ -48,6 +52,43 @@ def trial_table(result: StrengthReductionResult) -> pd.DataFrame:
             "wall_time_s": [t.seconds for t in result.trials],
         }
     )
+
+
+def _trial_end(
+    model: Model, result: StrengthReductionResult, kind: str, factor: float, blocks: np.ndarray
+) -> pd.DataFrame:
+    """mechanism.csv's rows of one trial: every block at its end (`blocks`, the blocks' rows)."""
+    moved = result.moved(blocks)
+    return pd.DataFrame(
+        {
+            "trial": kind,
+            "factor": factor,
+            "block": model.block_names,
+            "x_m": result.start_blocks[:, L.X],
+            "y_m": result.start_blocks[:, L.Y],
+            "ux_mm": moved[:, 0] / units.mm,
+            "uy_mm": moved[:, 1] / units.mm,
+            "rotation_deg": moved[:, 2] / units.deg,
+            "vx_m_s": blocks[:, L.VX],
+            "vy_m_s": blocks[:, L.VY],
+            "angular_velocity_deg_s": blocks[:, L.W] / units.deg,
+        }
+    )
+
+
+def mechanism_table(model: Model, result: StrengthReductionResult) -> pd.DataFrame:
+    """mechanism.csv: every block at the end of the highest stable trial (`trial` last_stable; the start
+    state at F = 1 where no stable trial ran) and of the lowest unstable one (first_unstable), each with
+    its factor F: the centroid where the trials start [m], its displacement [mm] and rotation [deg]
+    since then, and its velocity at the trial's last step. A trial the search did not find (none
+    failed, or none held) has no rows; one of the two always is."""
+    lo, hi = result.bracket
+    ends = []
+    if lo > 0.0:
+        ends.append(_trial_end(model, result, "last_stable", lo, result.stable_blocks))
+    if result.mechanism_blocks is not None:
+        ends.append(_trial_end(model, result, "first_unstable", hi, result.mechanism_blocks))
+    return pd.concat(ends, ignore_index=True)
 
 
 def summary_table(
@@ -122,7 +163,7 @@ def run(
     started = time.perf_counter()
     model = build_model(scene, config_path)
     result = factor_of_safety(model, progress)
-    tables = {"fos": trial_table(result)}
+    tables = {"fos": trial_table(result), "mechanism": mechanism_table(model, result)}
     unsupported, loads, design = None, None, None
     if len(model.support.names):
         progress("the same scene without its support")

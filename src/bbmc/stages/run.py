@@ -52,6 +52,7 @@ def run(
 
     result = simulate(model, progress, on_record if observers else None)
     warnings = pd.DataFrame({"warning": result.warnings}, dtype=object)
+    stop = scene.solver.stop
     tables = {
         "history": result.history,
         "blocks": result.blocks,
@@ -68,7 +69,9 @@ def run(
             scene.figure_dpi,
             (result.state.blocks, result.state.support),
         ),
-        "history": history_figure(result.history, scene.figure_dpi),
+        "history": history_figure(
+            result.history, scene.figure_dpi, stop.unbalanced_force_ratio if stop else None
+        ),
     }
     if len(model.support.names):
         tables["support"] = support_table(model.support, model.block_names, result.state.support)
