@@ -280,6 +280,10 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
     )
     if outcome.progressive_note:
         click.echo(f"bbmc fos: note: {outcome.progressive_note}")
+    if outcome.failing_note:
+        click.echo(f"bbmc fos: {outcome.failing_note}")
+    if outcome.elastic_start_note:
+        click.echo(f"bbmc fos: warning: {outcome.elastic_start_note}", err=True)
     for line in fos_stage.support_summary_lines(scene, result.tables["summary"]):
         click.echo(f"bbmc fos: {line}")
     report_written(fos_stage.NAME, out_dir, written)

@@ -248,13 +248,16 @@ def _edge_lengths(model: Model) -> np.ndarray:
     return np.hypot(*(end - start).T)
 
 
-def unbalanced_force_ratio(state, reference: float) -> float:
+def unbalanced_force_ratio(state, reference: float, judged: np.ndarray | None = None) -> float:
     """The largest out-of-balance force or moment on a block's free degrees of freedom over the
     reference force [1]: a moment M counts as the force M / R that makes it at the block's radius R
     (its farthest vertex from the centroid), so the reference moment of a block is the reference force
-    times its radius. A block free only to rotate is judged by its moment alone."""
+    times its radius. A block free only to rotate is judged by its moment alone. `judged`: only these
+    blocks (a bool per block; default all)."""
     b = state.blocks
     free = state.dof == L.FREE
+    if judged is not None:
+        free = free & judged[:, None]
     force = np.where(free[:, :2], b[:, [L.FX, L.FY]], 0.0)
     moment = np.where(free[:, 2], np.abs(b[:, L.FM]) / b[:, L.RADIUS], 0.0)
     largest = np.maximum(np.hypot(force[:, 0], force[:, 1]), moment)

@@ -430,6 +430,17 @@ class Seismic(Section):
     towards: Literal["-x", "+x"] = "-x"  # out of the slope (jointed_slope's face looks towards -x)
 
 
+class Judge(Section):
+    """`bbmc fos`: the blocks whose motion decides a trial (docs/scene-format.md, "Factor of safety"):
+    every block by default; else those named in `blocks` (block or group names) or whose centroid lies
+    in `region_m` (two opposite corners) at the start, or both; of them, those at least
+    `min_size_fraction` x the median block size (a sliver that falls does not fail the slope)."""
+
+    blocks: list[str] = Field(default_factory=list)
+    region_m: Annotated[list[Pair], Field(min_length=2, max_length=2)] | None = None
+    min_size_fraction: Annotated[float, Field(ge=0, lt=1)] = 0.0
+
+
 class StrengthReduction(Section):
     """`bbmc fos`: how the factor of safety is found (docs/scene-format.md, "Factor of safety")."""
 
@@ -443,6 +454,7 @@ class StrengthReduction(Section):
     trend_window_multiple: Annotated[float, Field(gt=0)] = 1.0  # a trial's trend windows x equilibrium steps
     largest_factor: Annotated[float, Field(gt=1)] = 20.0  # the bracket is sought in [1 / it, it]
     support_form: Literal["active", "passive"] = "active"  # passive: the support's force along its joint / F
+    judge: Judge = Judge()  # the blocks whose motion decides a trial [default: every block]
 
 
 class Monitoring(Section):

@@ -204,6 +204,12 @@ def _above_critical(model: Model, state: State) -> None:
     )
 
 
+def _has_loads(model: Model) -> bool:
+    """Whether the scene has loads that `ramp_steps` ramps (gravity and water are not ramped)."""
+    loads = model.scene.loads
+    return bool(loads.edge_stresses or loads.block_forces)
+
+
 def _check_health(model: Model, state: State) -> None:
     """Stop a run that has gone unstable: non-finite state, or a block running away in one step."""
     b, dt = state.blocks, state.clock[L.DT]
@@ -234,9 +240,10 @@ def _check_health(model: Model, state: State) -> None:
             f"({model.scene.solver.update_interval_steps} steps)"
         )
     else:
+        ramp = ", or ramp the loads up (their ramp_steps)" if _has_loads(model) else ""
         cause = (
             f"a load too large for the joints (time step {dt:.3g} s is below the critical {critical:.3g} s): "
-            "stiffer joints, or ramp the load up (ramp_steps)"
+            f"stiffer joints, or a smaller solver.time_step.safety_factor{ramp}"
         )
     raise SimulationError(
         f"step {state.step}: block '{model.block_names[i]}' has {what}: the run went unstable; "

@@ -44,9 +44,11 @@ longer than the equilibrium's steps.
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,7 +68,8 @@ ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equ
 @dataclass(frozen=True)
 class Trial:
     """One trial: its factor, verdict and why, steps run, the largest vertex displacement from the
-    start state [m], the unbalanced-force ratio at its end [1], and its wall time [s]."""
+    start state [m], the unbalanced-force ratio at its end [1], its wall time [s], and the block that
+    moved most (of those judged: `fos.judge`) and its size."""
 
     factor: float
     verdict: str
@@ -75,6 +78,20 @@ class Trial:
     largest_displacement_m: float
     unbalanced_force_ratio: float
     seconds: float
+    block: str = ""  # the judged block that moved most
+    block_size_m: float = math.nan  # its size (square root of its area) [m]
+
+
+@dataclass(frozen=True)
+class FromRest:
+    """The scene's run from rest with its strengths as given (the unreduced equilibrium, as `bbmc run`
+    runs it): its verdict and why, its steps, and the block that moved most and how far [m]."""
+
+    verdict: str
+    reason: str
+    steps: int
+    block: str
+    largest_displacement_m: float
 
 
 @dataclass
@@ -99,6 +116,42 @@ class StrengthReductionResult:
     ]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
     # the support elements' rows at the end of the highest stable trial (none without support)
     support_state: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, L.SUPPORT_COLUMNS)))
+    from_rest: FromRest | None = None  # the run from rest with the strengths as given
+    median_block_size_m: float = math.nan  # of the blocks free to move
+
+    @property
+    def failing_trial(self) -> Trial | None:
+        """The lowest unstable trial (None if none failed): its block that moved most failed first."""
+        failed = [t for t in self.trials if t.verdict == UNSTABLE]
+        return min(failed, key=lambda t: t.factor) if failed else None
+
+    @property
+    def failing_note(self) -> str:
+        """One line naming the block that failed in the lowest unstable trial and its size."""
+        trial = self.failing_trial
+        if trial is None or not trial.block:
+            return ""
+        moved_mm, relative = trial.largest_displacement_m * 1e3, trial.block_size_m / self.median_block_size_m
+        return (
+            f"at F = {trial.factor:.4g} block '{trial.block}' moved most ({moved_mm:.3g} mm; its size "
+            f"{trial.block_size_m:.3g} m, {relative:.2g} x the median block's): fos.judge chooses the blocks "
+            "that decide failure"
+        )
+
+    @property
+    def elastic_start_note(self) -> str:
+        """One line for an FS taken from the elastic start, beside the run from rest ("" otherwise)."""
+        rest = self.from_rest
+        if self.start != "elastic" or rest is None:
+            return ""
+        held = "holds" if self.factor_of_safety >= 1.0 else "fails too"
+        why = rest.reason.replace("_", " ")
+        return (
+            f"the scene does not stand from rest with its strengths as given ({why} "
+            f"in {rest.steps} steps, block '{rest.block}' moved {rest.largest_displacement_m * 1e3:.3g} mm: "
+            "what bbmc run shows); this FS is from the elastic start (every strength x 1e6 to equilibrium, "
+            f"then as given), where F = 1 {held}: a slope loaded gradually, not all at once"
+        )
 
     def moved(self, end: np.ndarray) -> np.ndarray:
         """Each block's centroid displacement x, y [m] and rotation [rad] from the start of the trials to
@@ -150,9 +203,57 @@ def copy_state(state: State) -> State:
     )
 
 
-def largest_displacement(state: State, start_world: np.ndarray) -> float:
-    """The largest distance any vertex has moved from `start_world` [m]."""
-    return float(np.max(np.hypot(*(state.world - start_world).T), initial=0.0))
+def largest_displacement(state: State, start_world: np.ndarray, vertices: np.ndarray | None = None) -> float:
+    """The largest distance any vertex (of `vertices`, a bool mask; default all) has moved from
+    `start_world` [m]."""
+    moved = np.hypot(*(state.world - start_world).T)
+    return float(np.max(moved if vertices is None else moved[vertices], initial=0.0))
+
+
+@dataclass(frozen=True)
+class Judged:
+    """The blocks whose motion decides a verdict (`fos.judge`; all by default), and their vertices."""
+
+    blocks: np.ndarray  # bool per block
+    vertices: np.ndarray  # bool per vertex
+
+    @classmethod
+    def of(cls, model: Model) -> Judged:
+        """The scene's `fos.judge` as masks; a name that is no block or group, or a choice that leaves
+        no block, is refused (bad input)."""
+        judge = model.scene.fos.judge
+        chosen = np.zeros(len(model.block_names), dtype=bool) if judge.blocks or judge.region_m else None
+        for i, name in enumerate(judge.blocks):
+            named = np.array([b == name for b in model.block_names])
+            if name in model.group_names:
+                named |= model.block_group == model.group_names.index(name)
+            if not named.any():
+                raise SimulationError(
+                    f"key 'fos.judge.blocks.{i}': no block or group '{name}'{_closest(name, model)}",
+                    bad_input=True,
+                )
+            chosen |= named
+        if judge.region_m is not None:
+            (x0, y0), (x1, y1) = judge.region_m
+            x, y = model.blocks[:, L.X], model.blocks[:, L.Y]
+            chosen |= (min(x0, x1) <= x) & (x <= max(x0, x1)) & (min(y0, y1) <= y) & (y <= max(y0, y1))
+        blocks = np.ones(len(model.block_names), dtype=bool) if chosen is None else chosen
+        blocks &= model.blocks[:, L.SIZE] >= judge.min_size_fraction * _median_size(model)
+        if not (blocks & ~model.immobile).any():
+            raise SimulationError("key 'fos.judge': it leaves no block free to move to judge", bad_input=True)
+        return cls(blocks, blocks[model.vertex_block])
+
+    def moved_most(self, model: Model, state: State, start_world: np.ndarray) -> tuple[str, float, float]:
+        """The judged block with the vertex that moved farthest from `start_world`: (its name, how far
+        [m], its size [m])."""
+        moved = np.where(self.vertices, np.hypot(*(state.world - start_world).T), -1.0)
+        block = int(model.vertex_block[int(np.argmax(moved))])
+        return model.block_names[block], max(float(moved.max()), 0.0), float(model.blocks[block, L.SIZE])
+
+
+def _closest(name: str, model: Model) -> str:
+    close = difflib.get_close_matches(name, [*model.block_names, *model.group_names], n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
 
 
 def settle(
@@ -162,65 +263,94 @@ def settle(
     budget: int,
     failure_displacement: float,
     reference: float,
+    judged: Judged,
     window: int | None = None,
 ) -> tuple[str, str]:
-    """Run `state` until its verdict (module docstring): (verdict, reason). With `window` [steps], the
-    trend of its motion over successive windows decides too (`bbmc.dem.verdict.Trend`)."""
+    """Run `state` until its verdict (module docstring), read on the `judged` blocks alone: (verdict,
+    reason). With `window` [steps], the trend of its motion over successive windows decides too
+    (`bbmc.dem.verdict.Trend`)."""
     start_world, first = state.world.copy(), state.step
     trend = Trend(failure_displacement, settings.unbalanced_force_ratio) if window else None
     window_start, window_world = first, state.world.copy()
     while state.step - first < budget:
         advance(model, state, min(settings.check_every_steps, budget - (state.step - first)))
-        moved = largest_displacement(state, start_world)
+        moved = largest_displacement(state, start_world, judged.vertices)
         if moved > failure_displacement:
             return UNSTABLE, "displacement"
         loaded = state.step >= model.loads_applied_step
-        unbalance = mon.unbalanced_force_ratio(state, reference)
+        unbalance = mon.unbalanced_force_ratio(state, reference, judged.blocks)
         if loaded and unbalance < settings.unbalanced_force_ratio:
             return STABLE, "equilibrium"
         if trend is not None and loaded and state.step - window_start >= window:
-            verdict = trend.observe(largest_displacement(state, window_world), moved, unbalance)
+            window_moved = largest_displacement(state, window_world, judged.vertices)
+            verdict = trend.observe(window_moved, moved, unbalance)
             window_start, window_world = state.step, state.world.copy()
             if verdict is not None:
                 return verdict
     return UNSTABLE, "not_settled"
 
 
+@contextmanager
+def _stage(name: str) -> Iterator[None]:
+    """Name the stage of the search (the equilibrium, a trial at F) in a run's fault."""
+    try:
+        yield
+    except SimulationError as error:
+        raise SimulationError(f"{name}: {error}", error.bad_input) from error
+
+
 def _with_params(model: Model, params: np.ndarray, support_divisor: float = 1.0) -> Model:
     return dataclasses.replace(model, params=params, support_divisor=support_divisor)
 
 
+STAGES = {
+    "unreduced": "the equilibrium with the strengths as given",
+    "elastic": "the equilibrium with every strength x 1e6 (the elastic start)",
+}
+
+
 def _equilibrium(
-    model: Model, settings: StrengthReduction, failure: float, reference: float
-) -> tuple[str, State, int, float]:
-    """The start state of every trial: (unreduced | elastic, the state, its steps N_r, seconds)."""
+    model: Model, settings: StrengthReduction, failure: float, reference: float, judged: Judged
+) -> tuple[str, State, int, float, FromRest]:
+    """The start state of every trial: (unreduced | elastic, the state, its steps N_r, seconds, the run
+    from rest)."""
     started = time.perf_counter()
     budget = model.scene.solver.steps
+    from_rest = None
     for start, factor in (("unreduced", 1.0), ("elastic", ELASTIC_DIVISOR)):
         trial_model = _with_params(model, reduced_params(model, factor, "envelope"))
-        state = prepare(trial_model)
-        verdict, _ = settle(trial_model, state, settings, budget, failure, reference)
+        with _stage(STAGES[start]):
+            state = prepare(trial_model)
+            start_world = state.world.copy()
+            verdict, reason = settle(trial_model, state, settings, budget, failure, reference, judged)
+        if from_rest is None:
+            block, moved, _ = judged.moved_most(model, state, start_world)
+            from_rest = FromRest(verdict, reason, state.step, block, moved)
         if verdict == STABLE:
-            return start, state, state.step, time.perf_counter() - started
+            return start, state, state.step, time.perf_counter() - started, from_rest
     raise SimulationError(
         f"the scene finds no equilibrium in solver.steps = {budget} steps even with every strength x 1e6 "
         "(elastic): raise solver.steps, or check that every block is supported"
     )
 
 
+def _median_size(model: Model) -> float:
+    """The median size of the blocks free to move (of all, if none is) [m]."""
+    free = ~model.immobile
+    return float(np.median(model.blocks[free if free.any() else slice(None), L.SIZE]))
+
+
 def failure_displacement(model: Model) -> float:
     """The scene's `fos.failure_displacement_m`, or 5 % of the median size of the blocks free to move
     [m]; refused when larger than the whole model (every failing trial would run out its budget)."""
     given = model.scene.fos.failure_displacement_m
-    free = ~model.immobile
-    sizes = model.blocks[free if free.any() else slice(None), L.SIZE]
     extent = float(np.ptp(model.local, axis=0).max() + np.ptp(model.blocks[:, [L.X, L.Y]], axis=0).max())
     if given is not None and given > extent:
         raise SimulationError(
             f"key 'fos.failure_displacement_m': {given:g} m is larger than the whole model ({extent:.3g} m)",
             bad_input=True,
         )
-    return given if given is not None else 0.05 * float(np.median(sizes))
+    return given if given is not None else 0.05 * _median_size(model)
 
 
 def _support_response_steps(model: Model, state: State) -> int:
@@ -239,7 +369,8 @@ def factor_of_safety(
     failure = failure_displacement(model)
     reference = mon.reference_force(model)
     progress("equilibrium with the strengths as given")
-    start, equilibrium, n_r, eq_seconds = _equilibrium(model, settings, failure, reference)
+    judged = Judged.of(model)
+    start, equilibrium, n_r, eq_seconds, from_rest = _equilibrium(model, settings, failure, reference, judged)
     response = max(n_r, _support_response_steps(model, equilibrium))
     budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * response))
     window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * response))
@@ -271,15 +402,19 @@ def factor_of_safety(
             law = trial_model.laws[state.contacts[:, L.JOINT_TYPE], L.STRENGTH_LAW]
             state.subs[np.repeat(law == L.STRENGTH_BARTON_BANDIS, state.n_sub), L.TEN] /= factor
         started, first = time.perf_counter(), state.step
-        verdict, reason = settle(trial_model, state, settings, budget, failure, reference, window)
+        with _stage(f"the trial at F = {factor:.4g}"):
+            verdict, reason = settle(trial_model, state, settings, budget, failure, reference, judged, window)
+        block, moved, size = judged.moved_most(model, state, equilibrium.world)
         trial = Trial(
             factor=factor,
             verdict=verdict,
             reason=reason,
             steps=state.step - first,
-            largest_displacement_m=largest_displacement(state, equilibrium.world),
-            unbalanced_force_ratio=mon.unbalanced_force_ratio(state, reference),
+            largest_displacement_m=moved,
+            unbalanced_force_ratio=mon.unbalanced_force_ratio(state, reference, judged.blocks),
             seconds=time.perf_counter() - started,
+            block=block,
+            block_size_m=size,
         )
         trials.append(trial)
         progress(
@@ -323,4 +458,6 @@ def factor_of_safety(
         start_blocks=equilibrium.blocks.copy(),
         stable_blocks=stable_blocks,
         mechanism_blocks=mechanism_blocks,
+        from_rest=from_rest,
+        median_block_size_m=_median_size(model),
     )

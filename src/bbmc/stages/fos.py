@@ -29,6 +29,7 @@ from bbmc.dem.figures import bracketing_figure, mechanism_figure
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.scene import Scene
 from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.dem.verdict import STABLE
 from bbmc.io import StageResult
 from bbmc.support.design import DesignResult, design_support
 from bbmc.support.elements import SupportElements
@@ -50,6 +51,8 @@ def trial_table(result: StrengthReductionResult) -> pd.DataFrame:
             "largest_displacement_mm": [t.largest_displacement_m * 1e3 for t in result.trials],
             "unbalanced_force_ratio": [t.unbalanced_force_ratio for t in result.trials],
             "wall_time_s": [t.seconds for t in result.trials],
+            "moved_most_block": [t.block for t in result.trials],
+            "moved_most_block_size_m": [t.block_size_m for t in result.trials],
         }
     )
 
@@ -91,6 +94,19 @@ def mechanism_table(model: Model, result: StrengthReductionResult) -> pd.DataFra
     return pd.concat(ends, ignore_index=True)
 
 
+def _from_rest_rows(result: StrengthReductionResult) -> list[tuple[str, float, str]]:
+    """The run from rest with the strengths as given, beside the FS: whether it stood (as `bbmc run`
+    would say), and the largest displacement in it."""
+    rest = result.from_rest
+    if rest is None:
+        return []
+    return [
+        ("stands_from_rest", int(rest.verdict == STABLE), "1"),
+        ("from_rest_steps", rest.steps, "1"),
+        ("from_rest_largest_displacement", rest.largest_displacement_m * 1e3, "mm"),
+    ]
+
+
 def summary_table(
     result: StrengthReductionResult,
     scene: Scene,
@@ -100,6 +116,8 @@ def summary_table(
     design: DesignResult | None = None,
 ) -> pd.DataFrame:
     settings = scene.fos
+    failing = result.failing_trial
+    median = result.median_block_size_m
     rows = [
         ("factor_of_safety", result.factor_of_safety, "1"),
         ("bracketed", int(result.bracketed), "1"),
@@ -107,6 +125,9 @@ def summary_table(
         ("first_unstable_factor", result.bracket[1], "1"),
         ("tolerance", settings.tolerance, "1"),
         ("start_from_elastic_equilibrium", int(result.start == "elastic"), "1"),
+        *_from_rest_rows(result),
+        ("failing_block_size", failing.block_size_m if failing else math.nan, "m"),
+        ("failing_block_size_to_median", failing.block_size_m / median if failing else math.nan, "1"),
         ("equilibrium_steps", result.equilibrium_steps, "1"),
         ("equilibrium_wall_time", result.equilibrium_seconds, "s"),
         ("trials", len(result.trials), "1"),
