@@ -270,7 +270,7 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
                 click.echo(f"bbmc fos: {line}", err=True)
 
         with scene_at_fault(config_path):
-            result, outcome = fos_stage.run(scene, config_path, progress)
+            result, outcome, design = fos_stage.run(scene, config_path, progress)
         out_dir = Path(results) / fos_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(fos_stage.NAME, config_path, scene))
     bound = "" if outcome.bracketed else " (not bracketed: beyond the searched range)"
@@ -284,7 +284,8 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
         click.echo(f"bbmc fos: {outcome.failing_note}")
     if outcome.elastic_start_note:
         click.echo(f"bbmc fos: warning: {outcome.elastic_start_note}", err=True)
-    for line in fos_stage.support_summary_lines(scene, result.tables["summary"]):
+    note = design.note if design is not None else ""
+    for line in fos_stage.support_summary_lines(scene, result.tables["summary"], note):
         click.echo(f"bbmc fos: {line}")
     report_written(fos_stage.NAME, out_dir, written)
 

@@ -370,8 +370,10 @@ def build_model(scene: Scene, path: Path) -> Model:
         water_unit_weight=water.unit_weight_kN_m3 * 1e3 if water else 0.0,
     )
     support = support_elements(scene.support, shapes, blocks[:, [L.X, L.Y]], model.immobile, names, path)
-    if scene.design is not None and scene.design.support not in support.names:
-        raise scene_error(path, "design.support", f"no support element named '{scene.design.support}'")
+    for k, name in enumerate(scene.design.elements if scene.design is not None else []):
+        if name not in support.names:
+            key = "design.support" if isinstance(scene.design.support, str) else f"design.support.{k}"
+            raise scene_error(path, key, f"no support element named '{name}'")
     for k, m in enumerate(scene.monitoring.monitors):
         if m.support is not None and m.support not in support.names:
             raise scene_error(

@@ -151,13 +151,14 @@ def summary_table(
             ("design_target_factor_of_safety", target.target_fs, "1"),
             (f"design_{target.vary}", math.nan if design.value is None else design.value, unit),
             ("design_reached", int(design.value is not None), "1"),
+            ("design_fs_scatter", design.scatter, "1"),
             ("design_trials", len(design.trials), "1"),
             ("design_wall_time", design.seconds, "s"),
         ]
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 
 
-def support_summary_lines(scene: Scene, summary: pd.DataFrame) -> list[str]:
+def support_summary_lines(scene: Scene, summary: pd.DataFrame, design_note: str = "") -> list[str]:
     """What the command prints of the support and the design (nothing for a scene without them)."""
     value = dict(zip(summary["quantity"], summary["value"], strict=True))
     lines = []
@@ -167,20 +168,25 @@ def support_summary_lines(scene: Scene, summary: pd.DataFrame) -> list[str]:
     if design is not None:
         unit = "kN" if design.vary == "capacity" else "m"
         found = value[f"design_{design.vary}"]
+        elements = ", ".join(design.elements)
         lines.append(
-            f"design: {design.support} {design.vary} {found:.4g} {unit} gives FS {design.target_fs:g} "
-            f"({int(value['design_trials'])} trials, {value['design_wall_time']:.1f} s; design.csv)"
+            f"design: {elements} {design.vary} {found:.4g} {unit} gives FS {design.target_fs:g}, confirmed "
+            f"by the engine ({int(value['design_trials'])} trials, {value['design_wall_time']:.1f} s; FS to "
+            f"{scene.fos.tolerance:g}, scatter between trials {value['design_fs_scatter']:.3g}; design.csv)"
             if value["design_reached"]
             else f"design: no {design.vary} in {design.range} {unit} gives FS {design.target_fs:g} "
             "(design.csv)"
         )
+        if design_note:
+            lines.append(f"design: {design_note}")
     return lines
 
 
 def run(
     scene: Scene, config_path: Path, progress: Callable[[str], None] = lambda _: None
-) -> tuple[StageResult, StrengthReductionResult]:
-    """Build the scene (checking every reference), find its factor of safety, tabulate and draw."""
+) -> tuple[StageResult, StrengthReductionResult, DesignResult | None]:
+    """Build the scene (checking every reference), find its factor of safety, tabulate and draw; and
+    the design, where the scene has one."""
     started = time.perf_counter()
     model = build_model(scene, config_path)
     result = factor_of_safety(model, progress)
@@ -200,4 +206,4 @@ def run(
         "bracketing": bracketing_figure(result, scene.figure_dpi),
         "mechanism": mechanism_figure(model, result, scene.figure_dpi),
     }
-    return StageResult(tables=tables, figures=figures), result
+    return StageResult(tables=tables, figures=figures), result, design

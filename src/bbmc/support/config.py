@@ -95,10 +95,17 @@ class Design(Section):
     `target_fs` (limit equilibrium first, then the engine's strength reduction)."""
 
     target_fs: Annotated[float, Field(gt=1, le=5)]
-    support: str  # the element's name
+    support: (
+        str | Annotated[list[str], Field(min_length=1)]
+    )  # an element's name, or several: one value for all
     vary: Literal["capacity", "spacing"]  # steel_capacity_kN [kN] or spacing_m [m]
     range: Pair  # the values searched: [smallest, largest]
     tolerance: Annotated[float, Field(gt=0, le=0.2)] = 0.02  # of the value: the search's last step
+
+    @property
+    def elements(self) -> list[str]:
+        """The names of the elements the design varies together (a pattern of rows)."""
+        return [self.support] if isinstance(self.support, str) else list(self.support)
 
     @model_validator(mode="after")
     def _range(self) -> Design:

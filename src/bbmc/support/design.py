@@ -10,9 +10,17 @@ spacing (the largest) is searched in its range, in two stages:
    RocPlane's active form: FS = (c A + (N + T_n) tan phi) / (D - T_s). FS grows with the capacity and
    falls with the spacing, so the target is found by bisection (to 1e-4 of the value).
 2. The engine: strength reduction (`bbmc.dem.strength_reduction`) at the limit-equilibrium value, then,
-   while it falls short of the target (by more than half the FS search's tolerance), at values
-   stepped towards the safe end of the range by bisection between the last short and the safe end,
-   to `tolerance` of the value. Without a limit-equilibrium stage the engine bisects the whole range.
+   while it falls short of the target, at values stepped towards the safe end of the range by
+   bisection between the last short and the safe end, to `tolerance` of the value. Without a
+   limit-equilibrium stage the engine bisects the whole range.
+
+The engine's FS is found to `fos.tolerance` (the bisection's bracket) and is not monotone in the
+support to better than its scatter (a rock mass's blocks take other paths at another support force),
+so the design is the value nearest the unsafe end whose engine FS reached the target and beyond which
+every value tried reached it too (`confirmed_value`): confirmed by the engine, never inferred. The
+largest drop of FS towards the safe end between two trials is reported (`fs_scatter`), and so is an
+answer at an end of the range, or why there is none (the block that fails first at the safe end, and
+whether the support holds it). One `design.support` may name several elements: one value for all.
 
 Every trial is a row of the design table: stage, value, FS, seconds.
 """
@@ -33,7 +41,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.motion import apply_loads
 from bbmc.dem.solver import initial_state, prepare
-from bbmc.dem.strength_reduction import factor_of_safety
+from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.dem.water import add_water_loads
 from bbmc.support.config import Anchor, Design, Tendon
 from bbmc.support.elements import anchor_capacity_kN
@@ -136,16 +144,16 @@ def planar_limit_equilibrium(model: Model) -> PlanarLimitEquilibrium | str:
     )
 
 
-def support_force_on(model: Model, problem: PlanarLimitEquilibrium, name: str) -> np.ndarray:
-    """The force per metre [N/m] that tendon `name` puts on the free block as it slides down the
-    plane, at its capacity: each of its elements on the block pulls along its axis u against the
+def support_force_on(model: Model, problem: PlanarLimitEquilibrium, names: list[str]) -> np.ndarray:
+    """The force per metre [N/m] that the tendons `names` put on the free block as it slides down the
+    plane, at their capacity: each of their elements on the block pulls along its axis u against the
     slide, -T sign(down . u) u, where the slide stretches it (a grouted crossing: always, in tension
     or compression; an anchor: when the block moves away from its other end, else it is slack)."""
     support = model.support
     force = np.zeros(2)
     for e, element in enumerate(support.names):
         a, b = support.blocks[e]
-        if element != name or problem.block not in (a, b):
+        if element not in names or problem.block not in (a, b):
             continue
         axis = support.support[e, [L.DIR_X, L.DIR_Y]]
         slide = float(problem.down @ axis)
@@ -156,7 +164,7 @@ def support_force_on(model: Model, problem: PlanarLimitEquilibrium, name: str) -
     return force
 
 
-def _varied(model: Model, design: Design, value: float, path: Path) -> Model:
+def varied_model(model: Model, design: Design, value: float, path: Path) -> Model:
     """The model with the design element's capacity or spacing set to `value` (an anchor's
     pretension kept at the same fraction of its steel capacity, and at most its capacity)."""
 
@@ -171,7 +179,7 @@ def _varied(model: Model, design: Design, value: float, path: Path) -> Model:
             )
         return tendon.model_copy(update=update)
 
-    support = [changed(t) if t.name == design.support else t for t in model.scene.support]
+    support = [changed(t) if t.name in design.elements else t for t in model.scene.support]
     scene = model.scene.model_copy(update={"support": support, "design": None})
     return dataclasses.replace(build_model(scene, path), economy=model.economy)
 
@@ -182,6 +190,33 @@ class DesignResult:
     trials: pd.DataFrame  # stage, value, factor_of_safety, seconds
     limit_equilibrium_note: str  # why the scene has no limit-equilibrium stage ("" when it has one)
     seconds: float
+    note: str = ""  # the answer at an end of its range, or why there is none
+    scatter: float = 0.0  # the largest drop of the engine's FS towards the safe end between trials
+
+
+def _safer(design: Design, a: float, b: float) -> bool:
+    """Whether value a is on the safe side of value b (a larger capacity, a smaller spacing)."""
+    return a > b if design.vary == "capacity" else a < b
+
+
+def confirmed_value(design: Design, engine: pd.DataFrame) -> float | None:
+    """The value nearest the unsafe end whose engine FS reached the target and beyond which, towards
+    the safe end, every value tried reached it too: the engine's FS is not monotone in the support
+    to better than its scatter, so a value that passed once beside a safer one that failed is no
+    design."""
+    passed = engine[engine.factor_of_safety >= design.target_fs].value
+    failed = engine[engine.factor_of_safety < design.target_fs].value
+    good = [v for v in passed if not any(_safer(design, f, v) for f in failed)]
+    if not good:
+        return None
+    return min(good) if design.vary == "capacity" else max(good)
+
+
+def fs_scatter(design: Design, engine: pd.DataFrame) -> float:
+    """The largest drop of the engine's FS from one value tried to a safer one [1] (0: monotone)."""
+    rows = list(zip(engine.value, engine.factor_of_safety, strict=True))
+    drops = [fa - fb for va, fa in rows for vb, fb in rows if _safer(design, vb, va)]
+    return max([0.0, *drops])
 
 
 def _search(
@@ -212,7 +247,7 @@ def design_support(
 
     def trial(stage: str, value: float, fs_of: Callable[[Model], float]) -> float:
         begun = time.perf_counter()
-        fs = fs_of(_varied(model, design, value, path))
+        fs = fs_of(varied_model(model, design, value, path))
         rows.append((stage, value, fs, time.perf_counter() - begun))
         progress(f"design: {stage.replace('_', ' ')}, {design.vary} {value:.4g}: FS {fs:.3f}")
         return fs
@@ -229,7 +264,7 @@ def design_support(
                     "limit_equilibrium",
                     v,
                     lambda m: problem.factor_of_safety(
-                        support_force_on(m, problem, design.support), model.scene.fos.support_form
+                        support_force_on(m, problem, design.elements), model.scene.fos.support_form
                     ),
                 )
                 >= design.target_fs
@@ -239,12 +274,56 @@ def design_support(
             LIMIT_EQUILIBRIUM_TOLERANCE,
         )
         start = safe_end if le is None else le
-    passes = design.target_fs - 0.5 * model.scene.fos.tolerance
-    best = _search(
-        lambda v: trial("engine", v, lambda m: factor_of_safety(m).factor_of_safety) >= passes,
+    results: dict[float, StrengthReductionResult] = {}
+
+    def engine_fs(m: Model, value: float) -> float:
+        results[value] = factor_of_safety(m)
+        return results[value].factor_of_safety
+
+    _search(
+        lambda v: trial("engine", v, lambda m: engine_fs(m, v)) >= design.target_fs,
         start,
         safe_end,
         design.tolerance,
     )
     trials = pd.DataFrame(rows, columns=["stage", "value", "factor_of_safety", "seconds"])
-    return DesignResult(best, trials, note, time.perf_counter() - started)
+    engine = trials[trials.stage == "engine"]
+    best = confirmed_value(design, engine)
+    why = _why(model, design, best, engine, results, unsafe_end, safe_end)
+    return DesignResult(best, trials, note, time.perf_counter() - started, why, fs_scatter(design, engine))
+
+
+def _why(
+    model: Model,
+    design: Design,
+    best: float | None,
+    engine: pd.DataFrame,
+    results: dict[float, StrengthReductionResult],
+    unsafe_end: float,
+    safe_end: float,
+) -> str:
+    """The answer at an end of its range, or why there is none: the block that fails first at the
+    safe end, and whether the elements hold it."""
+    if best == unsafe_end:
+        return f"at the end of the range: {design.vary} {unsafe_end:g} already gives FS {design.target_fs:g}"
+    if best is not None:
+        return ""
+    if safe_end not in results:
+        return "the engine's FS is not monotone in the support here (design.csv): no value is confirmed"
+    at_safe = results[safe_end]
+    failing = at_safe.failing_trial
+    fs = f"at {design.vary} {safe_end:g} the FS is {at_safe.factor_of_safety:.4g}"
+    if failing is None or not failing.block:
+        return fs
+    held = {
+        model.block_names[int(b)]
+        for name, blocks in zip(model.support.names, model.support.blocks, strict=True)
+        if name in design.elements
+        for b in blocks
+    }
+    if failing.block in held:
+        return f"{fs}; block '{failing.block}', which the support holds, still fails first"
+    return (
+        f"{fs}; the block that fails first, '{failing.block}', is not one the support holds "
+        f"({', '.join(sorted(held))}): support it too, or judge the FS on the blocks that matter (fos.judge)"
+    )
