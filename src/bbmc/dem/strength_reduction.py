@@ -127,15 +127,15 @@ class StrengthReductionResult:
 
     @property
     def failing_note(self) -> str:
-        """One line naming the block that failed in the lowest unstable trial and its size."""
+        """One line naming the block that failed in the lowest unstable trial, where it is smaller than
+        half the median block (a sliver may set the FS: `fos.judge`); "" otherwise."""
         trial = self.failing_trial
-        if trial is None or not trial.block:
+        if trial is None or not trial.block or not trial.block_size_m < 0.5 * self.median_block_size_m:
             return ""
         moved_mm, relative = trial.largest_displacement_m * 1e3, trial.block_size_m / self.median_block_size_m
         return (
-            f"at F = {trial.factor:.4g} block '{trial.block}' moved most ({moved_mm:.3g} mm; its size "
-            f"{trial.block_size_m:.3g} m, {relative:.2g} x the median block's): fos.judge chooses the blocks "
-            "that decide failure"
+            f"at F = {trial.factor:.4g} block '{trial.block}' failed first ({moved_mm:.3g} mm), "
+            f"{relative:.2g} x the median block's size: fos.judge asks for the FS of the blocks that matter"
         )
 
     @property
