@@ -12,7 +12,7 @@ from click.testing import CliRunner
 
 from bbmc import api
 from bbmc.cli import main
-from bbmc.dem.model import build_model
+from bbmc.dem.model import GLUED_CUT, build_model
 from bbmc.rockmass import generate
 from bbmc.sweep import design
 
@@ -25,8 +25,8 @@ def _scene() -> dict:
 
 
 def test_the_scene_holds_the_generators_blocks_and_labels():
-    """Every block and edge label of the realization reaches the engine, and the contacts on bridges and
-    cuts get the intact law by their rules."""
+    """Every block and edge label of the realization reaches the engine; the contacts on bridges get the
+    intact law by their rule, those on cuts (no rule) are glued."""
     scene = api.load_scene(_scene())
     model = build_model(scene, SCENE)
     mass = generate(scene.blocks[0].rock_mass)
@@ -36,7 +36,7 @@ def test_the_scene_holds_the_generators_blocks_and_labels():
     assert {"bridge.bedding", "joint.bedding", "joint.cross"} <= set(labels)
     result = api.run(_scene() | {"solver": {"steps": 200}})
     laws = set(result.contacts["joint_law"])
-    assert laws == {"joint", "intact"}
+    assert laws == {"joint", "intact", GLUED_CUT}
 
 
 def test_a_generators_fault_is_named_under_the_scenes_key(tmp_path):

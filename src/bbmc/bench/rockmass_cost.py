@@ -89,9 +89,10 @@ INTACT = JOINT | {
 
 
 def bridged_scene(spacing_scale: float, bridges: bool) -> dict:
-    """The rock mass of `rockmass_cost` as a scene, its bridges and cuts intact rock (`bridges`) or the
-    same geometry with every contact the plain joint."""
-    rules = [{"law": "intact", "edges": "bridge"}, {"law": "intact", "edges": "cut"}] if bridges else []
+    """The rock mass of `rockmass_cost` as a scene, its bridges intact rock (`bridges`) or the same
+    geometry with the bridges the plain joint; the cuts glued in both (the rule for cuts without one of
+    their own: `bbmc.dem.model`)."""
+    rules = [{"law": "intact", "edges": "bridge"}] if bridges else []
     return {
         "name": "bridged" if bridges else "plain",
         "materials": {"rock": {"density_kg_m3": 2600}},

@@ -33,6 +33,7 @@ from bbmc.kernel_cache import announce_engine_compile
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
 SLACK_SAFETY = 0.7  # a run with support warns above it: measured, an anchor that goes slack under a
 # sudden load (two free blocks, undamped) peaks at 2.16 x its load at 0.7 and 5.5 x at 0.75
+BOND_GAP = 1e-6  # of the smaller block's size: wider open at step 0, a share is not bonded
 RUNAWAY_FRACTION = 0.1  # a block moving this fraction of its size in one step: the run is lost (an
 # unstable time step grows without bound; a block this fast skips through contacts either way)
 
@@ -279,6 +280,7 @@ def prepare(model: Model) -> State:
     """The state at step 0: contacts found, joint laws evaluated, time step set."""
     state = initial_state(model)
     search_contacts(model, state)
+    _bonds_only_where_touching(state)
     if model.variable_laws:
         joint_state.update_joint_laws(
             state.contacts,
@@ -291,6 +293,24 @@ def prepare(model: Model) -> State:
         )
     _set_time_step(model, state)
     return state
+
+
+def _bonds_only_where_touching(state: State) -> None:
+    """A bond of the initial assembly (a share with a tensile strength: intact rock, a cemented joint)
+    holds only where its two blocks touch: a share whose middle is open by more than BOND_GAP x the
+    smaller block's size at step 0 (a corner within the search margin of a face, not on it) fails in
+    tension there, as one does whose gap is more than its strength's stretch T / K_n; intact rock then
+    becomes its joint at the first step (`joint_state.break_bridges`). Otherwise the bond's tension
+    would be K_n x the gap, which a strong bond (a glued cut, or any bond in strength reduction's
+    elastic start) holds, throwing the blocks apart."""
+    subs, contacts = state.subs, state.contacts
+    size = state.blocks[:, L.SIZE]
+    smaller = np.minimum(size[contacts[:, L.BLOCK_A]], size[contacts[:, L.BLOCK_B]])
+    gap = np.repeat(BOND_GAP * smaller, state.n_sub)
+    apart = (subs[:, L.SLIPPED] == 0.0) & (subs[:, L.TEN] > 0.0) & (subs[:, L.UN] < -gap)
+    subs[np.ix_(apart, [L.SN, L.TAU, L.CLOSED, L.TEN, L.COH])] = 0.0
+    subs[apart, L.SLIPPED] = L.FAILED_IN_TENSION
+    state.law_state[apart, L.LAW_SN] = math.nan
 
 
 def advance(model: Model, state: State, n_steps: int) -> None:
