@@ -17,6 +17,9 @@ from numba.typed import List
 from bbmc.dem.contact_geometry import contact_frame, edge_frame
 from bbmc.dem.layout import CORNER_ROUNDING
 
+SQUARER = 1e-12  # a neighbouring edge faces more squarely only by more than this (in the cosine):
+# collinear neighbours (a boundary split where a trace ends on it) tie, up to round-off, and a tie
+# broken by round-off dropped a whole face contact for its neighbour's
 CONTACT, CORNER_REPLACED = 0, 1  # a found edge pair: a contact, or one the corner rule drops (`facing_edges`)
 
 
@@ -130,7 +133,7 @@ def _squarer_neighbour(world, vertex_next, e, first, last, s_closed, tx, ty, rea
     facing = _facing(world, vertex_next, e, other_nx, other_ny)
     for end, neighbour in ((e, e - 1 if e > first else last - 1), (vertex_next[e], vertex_next[e])):
         at_corner = abs(world[end, 0] * tx + world[end, 1] * ty - s_closed) <= reach
-        if at_corner and _facing(world, vertex_next, neighbour, other_nx, other_ny) < facing:
+        if at_corner and _facing(world, vertex_next, neighbour, other_nx, other_ny) < facing - SQUARER:
             return neighbour
     return -1
 
