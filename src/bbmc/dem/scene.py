@@ -16,7 +16,7 @@ from pydantic import Field, model_validator
 
 from bbmc.config import ConfigError, Section
 from bbmc.dem.polygons import MAX_BLOCKS
-from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
+from bbmc.joint.inputs import FullJointInputs, ResidualAndScale, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
 from bbmc.rockmass.config import RockMassConfig, SetName, distinct_set_names
 from bbmc.support.config import Design, SupportElement
@@ -165,8 +165,10 @@ class ConstantLaw(Section):
     breaks_into: str | None = None  # intact rock (a bridge): the joint law it becomes where it breaks
 
 
-class BartonBandisStrength(BartonBandisJoint):
-    """Eq 9 envelope; its tangent at the sub-contact's sigma_n gives phi and c (eqs 13-15)."""
+class BartonBandisStrength(ResidualAndScale, BartonBandisJoint):
+    """Eq 9 envelope; its tangent at the sub-contact's sigma_n gives phi and c (eqs 13-15). Optionally,
+    as the full joint: phi_r in place of phi_b (Barton & Choubey 1977) and JRC, JCS taken from the lab
+    to the field length (Barton & Bandis 1982), the keys and checks of `bbmc.joint.inputs`."""
 
     phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
     tangent_coefficient: Positive | Literal["exact"] = "exact"  # eq 15 prints 0.016
