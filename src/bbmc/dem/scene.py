@@ -408,15 +408,23 @@ class Monitor(Section):
 class Water(Section):
     """Joint water below a phreatic surface: p = unit weight x (height of the surface above the point),
     0 above it. It pushes on every block edge below the surface, both faces of a joint alike; the
-    contact stresses (and so the joint laws) are the effective ones (`bbmc.dem.water`)."""
+    contact stresses (and so the joint laws) are the effective ones (`bbmc.dem.water`). The surface is
+    given in model coordinates, or against a rock mass's profile: its crack's filling, or a height
+    above the toe and a depth below the crest at the model's back edge (`bbmc.dem.model`)."""
 
     phreatic_surface_m: Annotated[list[Pair], Field(min_length=2)] | None = None  # x increasing
     tension_crack_fill_percent: Annotated[float, Field(ge=0, le=100)] | None = None  # a rock mass's crack
+    height_above_toe_m: float | None = None  # a rock mass's water table at its toe ...
+    depth_below_crest_m: float | None = None  # ... and at its back edge, below the crest's level
     unit_weight_kN_m3: Positive = 9.81
 
     @model_validator(mode="after")
     def _increasing(self) -> Water:
-        _exactly_one(self, ("phreatic_surface_m", "tension_crack_fill_percent"), "water table")
+        if (self.height_above_toe_m is None) != (self.depth_below_crest_m is None):
+            raise ValueError("height_above_toe_m and depth_below_crest_m go together: give both")
+        _exactly_one(
+            self, ("phreatic_surface_m", "tension_crack_fill_percent", "height_above_toe_m"), "water table"
+        )
         if self.phreatic_surface_m is None:
             return self
         x = [point[0] for point in self.phreatic_surface_m]
