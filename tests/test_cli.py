@@ -6,10 +6,13 @@ import shutil
 from pathlib import Path
 
 import pytest
+import yaml
 from click.testing import CliRunner
 
 from bbmc.cli import main
-from stage_runs import PAPER, config_copy, delete_key, run_stage, set_key
+from bbmc.dem.scene import Scene
+from bbmc.stages import audit, fit, joint, joints, mc, shear, slope, sweep
+from stage_runs import CONFIGS, PAPER, config_copy, delete_key, run_stage, set_key
 
 
 @pytest.mark.parametrize("command", [[], ["fit"], ["mc"], ["audit"]])
@@ -55,6 +58,36 @@ def test_missing_key_is_named(tmp_path) -> None:
     config = config_copy(tmp_path, "mc", delete_key("joint.jcs_MPa"))
     results = tmp_path / "results"
     _assert_refused(run_stage("mc", results, config), results, "'joint.jcs_MPa'", "missing")
+
+
+COMMANDS = {  # each config command: its config file and the model it is checked against
+    "fit": ("fit.yaml", fit.Config),
+    "mc": ("mc.yaml", mc.Config),
+    "audit": ("audit.yaml", audit.Config),
+    "shear": ("shear.yaml", shear.Config),
+    "slope": ("slope.yaml", slope.Config),
+    "joint": ("joint.yaml", joint.Config),
+    "joints": ("joints.yaml", joints.Config),
+    "sweep": ("sweeps/planar_block.yaml", sweep.Config),
+    "run": ("scenes/incline.yaml", Scene),
+    "fos": ("scenes/incline.yaml", Scene),
+}
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_missing_key_is_named_at_once(tmp_path, command: str) -> None:
+    """A config short of two required keys names both in its one line (not one per run)."""
+    name, model = COMMANDS[command]
+    data = yaml.safe_load((CONFIGS / name).read_text())
+    gone = [key for key, field in model.model_fields.items() if field.is_required() and key in data][:2]
+    assert len(gone) == 2, gone
+    for key in gone:
+        del data[key]
+    config = tmp_path / "config.yaml"
+    config.write_text(yaml.safe_dump(data))
+    results = tmp_path / "results"
+    outcome = CliRunner().invoke(main, [command, str(config), "--results", str(results)])
+    _assert_refused(outcome, results, str(config), f"keys '{gone[0]}', '{gone[1]}': missing")
 
 
 def test_unknown_key_suggests_the_closest(tmp_path) -> None:

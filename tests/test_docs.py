@@ -6,11 +6,12 @@ Conventions of the pages (README.md, docs/):
 * A fenced block with `title="PATH"` shows the repository file PATH: either its text verbatim (the
   README, which GitHub renders) or `--8<-- "PATH"` (MkDocs' snippets include it when the guide is
   built). Every scene or study file shown in a tutorial or how-to page is run by a command there.
-* In the README, the tutorials and the how-to pages, every ```sh block is run line by line (each
-  line a `bbmc` command) and every ```python block is executed, in the page's order, in one temporary
-  folder that sees the repository's configs/, data/ and docs/. An HTML comment on the line before a
-  block changes that: `<!-- not run: REASON -->` skips it; `<!-- slow -->` runs it only in the slow
-  test of the page. `<!-- output: TEXT -->` after a block: TEXT must be in what the block printed.
+* In the README, the tutorials, the how-to pages and docs/rock-mass.md, every ```sh block is run
+  line by line (each line a `bbmc` command) and every ```python block is executed, in the page's
+  order, in one temporary folder that sees the repository's configs/, data/ and docs/. An HTML
+  comment on the line before a block changes that: `<!-- not run: REASON -->` skips it;
+  `<!-- slow -->` runs it only in the slow test of the page. `<!-- output: TEXT -->` after a block:
+  TEXT must be in what the block printed.
 """
 
 from __future__ import annotations
@@ -37,7 +38,12 @@ from bbmc.sweep.config import Config as Study
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 README = ROOT / "README.md"
-RUN_PAGES = [README, *sorted((DOCS / "tutorials").glob("*.md")), *sorted((DOCS / "how-to").glob("*.md"))]
+RUN_PAGES = [
+    README,
+    *sorted((DOCS / "tutorials").glob("*.md")),
+    *sorted((DOCS / "how-to").glob("*.md")),
+    DOCS / "rock-mass.md",
+]
 ALL_PAGES = [README, *sorted(DOCS.rglob("*.md"))]
 SHOWN_INPUTS = ("docs/examples/", "configs/scenes/", "configs/sweeps/")
 REPO_PREFIXES = ("src/", "configs/", "docs/", "tests/", "data/")

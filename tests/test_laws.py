@@ -521,6 +521,9 @@ _N_J = _RNG.uniform(0.0, 1.0, _N)
 _REF = np.full(_N, 1.0 * MPa)
 _Q = _RNG.uniform(1.0, 1e4, _N)
 _LOG10_E = np.full(_N, math.log10(math.e))
+_L0 = np.full(_N, 0.1)
+_LN = 10.0 ** _RNG.uniform(-2.0, 2.0, _N)
+_REBOUND = _RNG.uniform(-0.5, 1.5, _N)
 
 LAW_ARGS = {
     "roughness_angle": (strength, (np.abs(_SIG) + 1.0, _JRC, _JCS)),
@@ -530,6 +533,9 @@ LAW_ARGS = {
     "envelope_slope": (strength, (_SIG, _JRC, _JCS, _PHI_B, _PHI_MAX, _K)),
     "equivalent_friction_angle": (strength, (_SIG, _JRC, _JCS, _PHI_B, _PHI_MAX, _K)),
     "equivalent_cohesion": (strength, (_SIG, _JRC, _JCS, _PHI_B, _PHI_MAX, _K)),
+    "scaled_jrc": (strength, (_JRC, _L0, _LN)),
+    "scaled_jcs": (strength, (_JCS, _JRC, _L0, _LN)),
+    "residual_friction_angle": (strength, (_PHI_B, _REBOUND)),
     "linear_relation": (stiffness, (_SIG, _A, _B)),
     "initial_shear_stiffness": (stiffness, (_SIG, _K_SI, _N_J, _REF)),
     "hyperbolic_shear_stiffness": (stiffness, (_TAU, _K_SI, _TAU_ULT)),
@@ -601,6 +607,17 @@ def _stiffness_kernel(sig, tau, k_si, tau_p, tau_ult, a, b, n_j, ref, q, log10_e
     return out
 
 
+@numba.njit
+def _field_scale_kernel(jrc, jcs, lab, field, phi_b, rebound):
+    out = np.empty((jrc.size, 3))
+    for i in range(jrc.size):
+        out[i, 0] = strength.scaled_jrc(jrc[i], lab[i], field[i])
+        out[i, 1] = strength.scaled_jcs(jcs[i], jrc[i], lab[i], field[i])
+        out[i, 2] = strength.residual_friction_angle(phi_b[i], rebound[i])
+    return out
+
+
+_FIELD_SCALE_ORDER = ["scaled_jrc", "scaled_jcs", "residual_friction_angle"]
 _STRENGTH_ORDER = [
     "roughness_angle",
     "peak_friction_angle",
@@ -634,4 +651,8 @@ def test_njit_law_called_from_a_kernel_matches_the_ufunc():
     for column, name in enumerate(_STIFFNESS_ORDER):
         _, args = LAW_ARGS[name]
         np.testing.assert_array_equal(inside[:, column], getattr(laws, name)(*args), err_msg=name)
-    assert set(_STRENGTH_ORDER) | set(_STIFFNESS_ORDER) == PEAK_LAWS
+    inside = _field_scale_kernel(_JRC, _JCS, _L0, _LN, _PHI_B, _REBOUND)
+    for column, name in enumerate(_FIELD_SCALE_ORDER):
+        _, args = LAW_ARGS[name]
+        np.testing.assert_array_equal(inside[:, column], getattr(laws, name)(*args), err_msg=name)
+    assert set(_STRENGTH_ORDER) | set(_STIFFNESS_ORDER) | set(_FIELD_SCALE_ORDER) == PEAK_LAWS

@@ -50,20 +50,20 @@ def central_difference(f, x: float, h: float) -> float:
 
 def test_scale_corrections():
     # 0.1 m -> 1 m is one decade: JRC_n = 10 * 10^(-0.2) = 6.309573, JCS_n = 100 * 10^(-0.3) = 50.11872
-    assert mobilized.scaled_jrc(JRC, 0.1, 1.0) == pytest.approx(6.309573, rel=1e-6)
-    assert mobilized.scaled_jcs(JCS, JRC, 0.1, 1.0) == pytest.approx(50.11872 * MPa, rel=1e-6)
+    assert strength.scaled_jrc(JRC, 0.1, 1.0) == pytest.approx(6.309573, rel=1e-6)
+    assert strength.scaled_jcs(JCS, JRC, 0.1, 1.0) == pytest.approx(50.11872 * MPa, rel=1e-6)
     # the same size, or no roughness: nothing changes
-    assert mobilized.scaled_jrc(JRC, 0.1, 0.1) == JRC
-    assert mobilized.scaled_jcs(JCS, 0.0, 0.1, 10.0) == JCS
+    assert strength.scaled_jrc(JRC, 0.1, 0.1) == JRC
+    assert strength.scaled_jcs(JCS, 0.0, 0.1, 10.0) == JCS
     # a smaller field block is rougher (the law runs both ways)
-    assert mobilized.scaled_jrc(JRC, 1.0, 0.1) == pytest.approx(10.0 * 10.0**0.2, rel=1e-12)
+    assert strength.scaled_jrc(JRC, 1.0, 0.1) == pytest.approx(10.0 * 10.0**0.2, rel=1e-12)
 
 
 def test_residual_friction_angle():
     # (30 - 20) + 20 * 0.7 = 24 deg
-    assert mobilized.residual_friction_angle(30.0 * deg, 0.7) == pytest.approx(24.0 * deg, rel=1e-12)
-    assert mobilized.residual_friction_angle(30.0 * deg, 1.0) == pytest.approx(30.0 * deg, rel=1e-12)
-    assert mobilized.residual_friction_angle(30.0 * deg, 0.0) == pytest.approx(10.0 * deg, rel=1e-12)
+    assert strength.residual_friction_angle(30.0 * deg, 0.7) == pytest.approx(24.0 * deg, rel=1e-12)
+    assert strength.residual_friction_angle(30.0 * deg, 1.0) == pytest.approx(30.0 * deg, rel=1e-12)
+    assert strength.residual_friction_angle(30.0 * deg, 0.0) == pytest.approx(10.0 * deg, rel=1e-12)
 
 
 def test_peak_shear_displacement():
@@ -260,12 +260,12 @@ def test_zero_peak_displacement():
 
 
 def test_scale_and_residual_rules():
-    assert mobilized.scaled_jrc(JRC, 0.0, 1.0) == JRC
-    assert mobilized.scaled_jcs(JCS, JRC, 0.1, -1.0) == JCS
+    assert strength.scaled_jrc(JRC, 0.0, 1.0) == JRC
+    assert strength.scaled_jcs(JCS, JRC, 0.1, -1.0) == JCS
     # r/R clamped to [0, 1], phi_r floored at 0
-    assert mobilized.residual_friction_angle(30.0 * deg, 1.5) == pytest.approx(30.0 * deg, rel=1e-12)
-    assert mobilized.residual_friction_angle(30.0 * deg, -1.0) == pytest.approx(10.0 * deg, rel=1e-12)
-    assert mobilized.residual_friction_angle(15.0 * deg, 0.1) == 0.0
+    assert strength.residual_friction_angle(30.0 * deg, 1.5) == pytest.approx(30.0 * deg, rel=1e-12)
+    assert strength.residual_friction_angle(30.0 * deg, -1.0) == pytest.approx(10.0 * deg, rel=1e-12)
+    assert strength.residual_friction_angle(15.0 * deg, 0.1) == 0.0
 
 
 def test_fit_floors_and_caps():
@@ -410,15 +410,15 @@ def test_property_fits(jrc, jcs, sigma_c, a):
 @PROPERTY
 @given(jrc0=jrcs, l0=st.floats(0.01, 1.0), ln=st.floats(0.01, 100.0), phi_b=phi_rs, r=st.floats(-1, 2))
 def test_property_scale_and_residual(jrc0, l0, ln, phi_b, r):
-    jrc_n = mobilized.scaled_jrc(jrc0, l0, ln)
-    jcs_n = mobilized.scaled_jcs(JCS, jrc0, l0, ln)
+    jrc_n = strength.scaled_jrc(jrc0, l0, ln)
+    jcs_n = strength.scaled_jcs(JCS, jrc0, l0, ln)
     assert math.isfinite(jrc_n) and jrc_n >= 0.0
     assert math.isfinite(jcs_n) and jcs_n > 0.0
     if ln >= l0:  # larger is smoother and weaker
         assert jrc_n <= jrc0 and jcs_n <= JCS
     dp = mobilized.peak_shear_displacement(ln, jrc_n)
     assert math.isfinite(dp) and dp >= 0.0
-    phi_r = mobilized.residual_friction_angle(phi_b, r)
+    phi_r = strength.residual_friction_angle(phi_b, r)
     assert 0.0 <= phi_r <= max(phi_b, 0.0)
 
 
@@ -441,9 +441,7 @@ _X = np.concatenate([[0.0, -0.5, 0.3, 1.0, 100.0, 1e300], _RNG.uniform(0.0, 150.
 _DELTA = _X * _DP
 _I = _RNG.uniform(-0.1, 1.5, _N)
 _M = _RNG.uniform(0.7, 3.0, _N)
-_L0 = np.full(_N, 0.1)
 _LN = 10.0 ** _RNG.uniform(-2.0, 2.0, _N)
-_R = _RNG.uniform(-0.5, 1.5, _N)
 _A = 10.0 ** _RNG.uniform(-6.5, -2.0, _N)
 _SC = _RNG.uniform(1.0, 400.0, _N) * MPa
 _KNI = 10.0 ** _RNG.uniform(6.0, 12.0, _N)
@@ -451,9 +449,6 @@ _VM = 10.0 ** _RNG.uniform(-6.0, -2.0, _N)
 _DV = _RNG.uniform(-0.1, 1.2, _N) * _VM
 
 MOBILIZED_ARGS = {
-    "scaled_jrc": (_JRC, _L0, _LN),
-    "scaled_jcs": (_JCS, _JRC, _L0, _LN),
-    "residual_friction_angle": (_PHI_R, _R),
     "peak_shear_displacement": (_LN, _JRC),
     "mobilized_roughness_ratio": (_X, _PHI_R, _I),
     "mobilized_friction_angle": (_DELTA, _SIG, _JRC, _JCS, _PHI_R, _DP, _PHI_MAX),

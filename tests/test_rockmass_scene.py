@@ -3,9 +3,11 @@ under the scene's key, and its geometry as a random variable of a study."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 import yaml
 from click.testing import CliRunner
@@ -15,6 +17,7 @@ from bbmc.cli import main
 from bbmc.dem.model import GLUED_CUT, build_model
 from bbmc.rockmass import generate
 from bbmc.sweep import design
+from stage_runs import refused
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "configs" / "scenes" / "benched_rock_mass.yaml"
@@ -110,6 +113,53 @@ def test_a_tension_crack_filled_in_percent_gives_hoek_and_brays_water_table():
     expected = [[0.0, 0.0], [crest[0] + 6.0, crest[1] - 4.0]]
     assert np.allclose(model.water_surface, expected, atol=1e-12)
     assert model.water_unit_weight == pytest.approx(9810.0)
+
+
+def test_a_water_table_against_the_profile_runs_as_its_model_coordinates():
+    """2 m above the toe, 8 m below the crest at the back edge: the water table of two 10 m benches at
+    70 deg with a 4 m berm and 15 m of crest is worked out by hand, in the generator's order of sums
+    (toe at the origin, the crest at 2 h cot 70 deg + 4 m, the back edge 15 m behind it). The two
+    scenes have the same water surface and the same run, bit for bit."""
+    relative, by_hand = _scene(), _scene()
+    relative["water"] = {"height_above_toe_m": 2.0, "depth_below_crest_m": 8.0}
+    run = 10.0 / math.tan(math.radians(70.0))
+    by_hand["water"] = {"phreatic_surface_m": [[0.0, 0.0 + 2.0], [run + 4.0 + run + 15.0, 20.0 - 8.0]]}
+    surfaces = [build_model(api.load_scene(s), SCENE).water_surface for s in (relative, by_hand)]
+    assert surfaces[0].tobytes() == surfaces[1].tobytes()
+    runs = [api.run(s | {"solver": {"steps": 300}}) for s in (relative, by_hand)]
+    assert runs[0].state.blocks.tobytes() == runs[1].state.blocks.tobytes()
+    pd.testing.assert_frame_equal(runs[0].contacts, runs[1].contacts, check_exact=True)
+
+
+@pytest.mark.parametrize(
+    ("water", "key", "message"),
+    [
+        ({"height_above_toe_m": 2.0}, "water", "give both"),
+        ({"depth_below_crest_m": 8.0}, "water", "give both"),
+        (
+            {"height_above_toe_m": 2.0, "depth_below_crest_m": 8.0, "tension_crack_fill_percent": 50},
+            "water",
+            "exactly one",
+        ),
+    ],
+)
+def test_a_water_table_against_the_profile_is_given_whole(tmp_path, water, key, message):
+    scene = _scene() | {"water": water}
+    path = tmp_path / "wet.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    out = tmp_path / "out"
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(out)])
+    refused(outcome, out, str(path), f"key '{key}'", message)
+
+
+def test_a_water_table_against_the_profile_needs_a_rock_mass(tmp_path):
+    scene = yaml.safe_load((ROOT / "configs" / "scenes" / "incline.yaml").read_text())
+    scene["water"] = {"height_above_toe_m": 2.0, "depth_below_crest_m": 8.0}
+    path = tmp_path / "incline.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    out = tmp_path / "out"
+    outcome = CliRunner().invoke(main, ["run", str(path), "--results", str(out)])
+    refused(outcome, out, str(path), "key 'water.height_above_toe_m'", "no rock_mass")
 
 
 def test_a_filling_without_a_crack_is_refused(tmp_path):

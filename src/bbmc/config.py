@@ -209,23 +209,41 @@ def closest(word: str, choices: list[str], noun: str) -> str:
     return f" (did you mean '{close[0]}'?)" if close else f" (valid {noun}: {', '.join(choices)})"
 
 
+def _misspelt_tag(error: dict[str, Any]) -> str | None:
+    """The key given in place of a discriminated union's absent tag key (`lwa` for `law`), or None."""
+    field = error["ctx"]["discriminator"].strip("'")
+    given = [str(name) for name in error["input"]] if isinstance(error["input"], dict) else []
+    close = difflib.get_close_matches(field, given, n=1)
+    return close[0] if close else None
+
+
+def _missing_key(model: type[BaseModel], error: dict[str, Any]) -> str | None:
+    """The dotted key of an error that is a required key left out (a discriminated union's tag key
+    too, unless a misspelling of it was given), or None for any other error."""
+    if error["type"] not in ("missing", "union_tag_not_found"):
+        return None
+    key, _ = _user_location(model, tuple(error["loc"]))
+    if error["type"] == "missing":
+        return key
+    if _misspelt_tag(error) is not None:
+        return None
+    return ".".join([*filter(None, [key]), error["ctx"]["discriminator"].strip("'")])
+
+
 def _describe(model: type[BaseModel], error: dict[str, Any]) -> str:
     key, owner = _user_location(model, tuple(error["loc"]))
     kind, context = error["type"], error.get("ctx") or {}
     if kind == "extra_forbidden":
         hint = closest(str(error["loc"][-1]), list(owner.model_fields), "keys") if owner else ""
         return f"key '{key}': unknown key{hint}"
-    if kind == "missing":
-        return f"key '{key}': missing"
+    missing = _missing_key(model, error)
+    if missing is not None:
+        return f"key '{missing}': missing"
     if kind in ("union_tag_invalid", "union_tag_not_found"):
         field = context["discriminator"].strip("'")
         prefix = f"{key}." if key else ""
         if kind == "union_tag_not_found":
-            given = [str(name) for name in error["input"]] if isinstance(error["input"], dict) else []
-            misspelt = difflib.get_close_matches(field, given, n=1)
-            if misspelt:
-                return f"key '{prefix}{misspelt[0]}': unknown key (did you mean '{field}'?)"
-            return f"key '{prefix}{field}': missing"
+            return f"key '{prefix}{_misspelt_tag(error)}': unknown key (did you mean '{field}'?)"
         key = prefix + field
         tags = re.findall(r"'([^']*)'", context["expected_tags"])
         return f"key '{key}': unknown {field} '{context['tag']}'{closest(context['tag'], tags, field + 's')}"
@@ -235,6 +253,18 @@ def _describe(model: type[BaseModel], error: dict[str, Any]) -> str:
     if kind == "literal_error" and isinstance(error["input"], str):
         message += closest(error["input"], re.findall(r"'([^']*)'", context["expected"]), "values")
     return f"key '{key}': {message}" if key else message
+
+
+def _first_fault(model: type[BaseModel], errors: list[dict[str, Any]]) -> str:
+    """The one line of a config's faults: an unknown key first (a misspelt key also shows as a missing
+    one); where the fault to report is a missing key, every missing key at once, so that the user
+    does not learn them one run at a time."""
+    first = sorted(errors, key=lambda e: e["type"] != "extra_forbidden")[0]
+    missing = list(dict.fromkeys(k for e in errors if (k := _missing_key(model, e)) is not None))
+    if _missing_key(model, first) is None or len(missing) == 1:
+        return _describe(model, first)
+    keys = ", ".join(f"'{key}'" for key in missing)
+    return f"keys {keys}: missing"
 
 
 def load_config(path: str | Path, model: type[ModelT]) -> ModelT:
@@ -261,7 +291,6 @@ def validate(
     try:
         settings = model.model_validate(raw, strict=strict, context={"base_dir": base_dir})
     except ValidationError as exc:
-        errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
-        raise ConfigError(f"{source}: {_describe(model, errors[0])}") from None
+        raise ConfigError(f"{source}: {_first_fault(model, exc.errors())}") from None
     plausibility.warn(raw, source)
     return settings

@@ -11,12 +11,13 @@ from bbmc import laws, units
 from bbmc.dem import layout as L
 from bbmc.dem.scene import (
     BartonBandisLaw,
+    BartonBandisStrength,
     ConstantLaw,
     MobilizedLaw,
     Scene,
     scene_error,
 )
-from bbmc.joint.derived import full_joint
+from bbmc.joint.derived import FullJoint, full_joint
 from bbmc.joint.model import SIGMA_REF
 
 SHEAR_CODES = {
@@ -28,19 +29,39 @@ SHEAR_CODES = {
 }
 
 
+def _joint_at_field_length(
+    keys: BartonBandisStrength | MobilizedLaw,
+    jrc: float,
+    jcs_MPa: float,
+    aperture: float | None = None,
+    sigma_c: float | None = None,
+) -> FullJoint:
+    """A Barton-Bandis law's joint (either law: the keys they share, `bbmc.joint.inputs`) at its field
+    length, in SI (`bbmc.joint.derived.full_joint`): JRC [1] and JCS [MPa] as given at the lab length,
+    phi_r given or from the rebound ratio (None where neither is), and the closure from `aperture` [m]
+    or `sigma_c` [Pa] where given."""
+    return full_joint(
+        jrc,
+        jcs_MPa * units.MPa,
+        keys.lab_length_m,
+        keys.field_length_m or keys.lab_length_m,
+        phi_b=keys.phi_b_deg * units.deg,
+        phi_r=None if keys.phi_r_deg is None else keys.phi_r_deg * units.deg,
+        rebound_ratio=keys.rebound_ratio,
+        aperture=aperture,
+        sigma_c=sigma_c,
+    )
+
+
 def _mobilized_law_row(law: MobilizedLaw, p: np.ndarray) -> tuple[list[int], np.ndarray]:
     """The mobilized law's parameters: JRC_n, JCS_n at the field length, phi_r, delta_peak, M, and the
     Bandis closure's K_ni, V_m (`bbmc.joint.derived`)."""
     normal = law.normal_stiffness
     bandis = normal.law == "bandis"
-    joint = full_joint(
+    joint = _joint_at_field_length(
+        law,
         law.jrc0,
-        law.jcs0_MPa * units.MPa,
-        law.lab_length_m,
-        law.field_length_m or law.lab_length_m,
-        phi_b=law.phi_b_deg * units.deg,
-        phi_r=None if law.phi_r_deg is None else law.phi_r_deg * units.deg,
-        rebound_ratio=law.rebound_ratio,
+        law.jcs0_MPa,
         aperture=normal.aperture_mm * units.mm if bandis and normal.aperture_mm is not None else None,
         sigma_c=normal.sigma_c_MPa * units.MPa if bandis and normal.sigma_c_MPa is not None else None,
     )
@@ -74,9 +95,11 @@ def _joint_law_row(law: ConstantLaw | BartonBandisLaw | MobilizedLaw) -> tuple[l
         p[L.P_PHI] = law.friction_deg * units.deg
         return [L.STRENGTH_CONSTANT, L.NORMAL_CONSTANT, L.SHEAR_CONSTANT, after], p
     s = law.strength
-    p[L.P_JRC], p[L.P_JCS] = s.jrc, s.jcs_MPa * units.MPa
-    p[L.P_PHI_B], p[L.P_PHI_MAX] = s.phi_b_deg * units.deg, s.phi_max_deg * units.deg
-    exact = float(laws.exact_tangent_coefficient(s.jrc))
+    joint = _joint_at_field_length(s, s.jrc, s.jcs_MPa)
+    p[L.P_JRC], p[L.P_JCS] = joint.jrc, joint.jcs
+    p[L.P_PHI_B] = s.phi_b_deg * units.deg if joint.phi_r is None else joint.phi_r
+    p[L.P_PHI_MAX] = s.phi_max_deg * units.deg
+    exact = float(laws.exact_tangent_coefficient(joint.jrc))
     p[L.P_K_TANGENT] = exact if s.tangent_coefficient == "exact" else s.tangent_coefficient
     p[L.P_STRESS_FLOOR] = law.stress_floor_MPa * units.MPa
     p[L.P_SHEAR_FLOOR] = law.shear_stiffness_floor

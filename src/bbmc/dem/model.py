@@ -37,7 +37,7 @@ from bbmc.dem.scene import (
     scene_error,
 )
 from bbmc.rockmass.cut import CUT
-from bbmc.rockmass.profile import crack_water_table
+from bbmc.rockmass.profile import crack_water_table, profile_water_table
 from bbmc.support.elements import SupportElements, support_elements
 
 GLUED_CUT = "cut (glued)"  # the joint type of the cuts without a rule of their own (`_cuts_glued_or_warned`)
@@ -150,15 +150,27 @@ class Model:
 
 
 def _water_table(scene: Scene, path: Path) -> np.ndarray:
-    """The phreatic surface [m]: as given, or from the filling of a rock mass's tension crack
-    (`bbmc.rockmass.profile.crack_water_table`); a level line at 0 without water (unit weight 0)."""
+    """The phreatic surface [m]: as given, or from the first rock mass's profile: the filling of its
+    tension crack (`bbmc.rockmass.profile.crack_water_table`) or heights at its toe and back edge
+    (`bbmc.rockmass.profile.profile_water_table`); a level line at 0 without water (unit weight 0)."""
     water = scene.water
     if water is None:
         return np.array([[0.0, 0.0], [1.0, 0.0]])
     if water.phreatic_surface_m is not None:
         return np.array(water.phreatic_surface_m, dtype=float)
-    masses = [entry.rock_mass for entry in scene.blocks if entry.rock_mass is not None]
-    cracked = [m.profile for m in masses if m.profile.tension_crack is not None]
+    profiles = [entry.rock_mass.profile for entry in scene.blocks if entry.rock_mass is not None]
+    if water.tension_crack_fill_percent is None:
+        if not profiles:
+            raise scene_error(
+                path,
+                "water.height_above_toe_m",
+                "no rock_mass in blocks to measure it from: give the water table as phreatic_surface_m",
+            )
+        profile = profiles[0]
+        return profile_water_table(
+            profile.surface(), profile.crest_extent_m, water.height_above_toe_m, water.depth_below_crest_m
+        )
+    cracked = [profile for profile in profiles if profile.tension_crack is not None]
     if not cracked:
         raise scene_error(
             path, "water.tension_crack_fill_percent", "no rock_mass with a tension_crack to fill"

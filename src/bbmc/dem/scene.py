@@ -16,7 +16,7 @@ from pydantic import Field, model_validator
 
 from bbmc.config import ConfigError, Section
 from bbmc.dem.polygons import MAX_BLOCKS
-from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
+from bbmc.joint.inputs import FullJointInputs, ResidualAndScale, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
 from bbmc.rockmass.config import RockMassConfig, SetName, distinct_set_names
 from bbmc.support.config import Design, SupportElement
@@ -165,8 +165,10 @@ class ConstantLaw(Section):
     breaks_into: str | None = None  # intact rock (a bridge): the joint law it becomes where it breaks
 
 
-class BartonBandisStrength(BartonBandisJoint):
-    """Eq 9 envelope; its tangent at the sub-contact's sigma_n gives phi and c (eqs 13-15)."""
+class BartonBandisStrength(ResidualAndScale, BartonBandisJoint):
+    """Eq 9 envelope; its tangent at the sub-contact's sigma_n gives phi and c (eqs 13-15). Optionally,
+    as the full joint: phi_r in place of phi_b (Barton & Choubey 1977) and JRC, JCS taken from the lab
+    to the field length (Barton & Bandis 1982), the keys and checks of `bbmc.joint.inputs`."""
 
     phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
     tangent_coefficient: Positive | Literal["exact"] = "exact"  # eq 15 prints 0.016
@@ -409,15 +411,23 @@ class Monitor(Section):
 class Water(Section):
     """Joint water below a phreatic surface: p = unit weight x (height of the surface above the point),
     0 above it. It pushes on every block edge below the surface, both faces of a joint alike; the
-    contact stresses (and so the joint laws) are the effective ones (`bbmc.dem.water`)."""
+    contact stresses (and so the joint laws) are the effective ones (`bbmc.dem.water`). The surface is
+    given in model coordinates, or against a rock mass's profile: its crack's filling, or a height
+    above the toe and a depth below the crest at the model's back edge (`bbmc.dem.model`)."""
 
     phreatic_surface_m: Annotated[list[Pair], Field(min_length=2)] | None = None  # x increasing
     tension_crack_fill_percent: Annotated[float, Field(ge=0, le=100)] | None = None  # a rock mass's crack
+    height_above_toe_m: float | None = None  # a rock mass's water table at its toe ...
+    depth_below_crest_m: float | None = None  # ... and at its back edge, below the crest's level
     unit_weight_kN_m3: Positive = 9.81
 
     @model_validator(mode="after")
     def _increasing(self) -> Water:
-        _exactly_one(self, ("phreatic_surface_m", "tension_crack_fill_percent"), "water table")
+        if (self.height_above_toe_m is None) != (self.depth_below_crest_m is None):
+            raise ValueError("height_above_toe_m and depth_below_crest_m go together: give both")
+        _exactly_one(
+            self, ("phreatic_surface_m", "tension_crack_fill_percent", "height_above_toe_m"), "water table"
+        )
         if self.phreatic_surface_m is None:
             return self
         x = [point[0] for point in self.phreatic_surface_m]

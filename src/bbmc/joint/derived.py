@@ -1,5 +1,6 @@
 """The full Barton-Bandis joint's derived inputs, computed in one place for every user: the engine's law
-parameters (`bbmc.dem.model`), the slope's joints (`bbmc.slope.safety`) and `bbmc joint`'s curves.
+parameters of both Barton-Bandis laws, the full joint's and the peak envelope's (`bbmc.dem.joint_types`),
+the slope's joints (`bbmc.slope.safety`) and `bbmc joint`'s curves.
 
 From a joint measured on a lab specimen (JRC_0, JCS_0 at length L_0) to the joint at its field length
 L_n, in SI (Pa, m, rad), with the laws of `bbmc.laws.mobilized` (as ufuncs, `bbmc.laws`):

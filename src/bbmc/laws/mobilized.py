@@ -4,11 +4,10 @@ Bandis hyperbolic normal closure.
 Scalar laws in SI (Pa, m, Pa/m, rad), compiled with numba so kernels call them directly; `bbmc.laws`
 exposes the same functions as numpy ufuncs. Compression positive; a closure is positive.
 
-Sources:
+Sources (the scale corrections of JRC and JCS and the residual friction angle phi_r, which the peak
+envelope takes too, are `bbmc.laws.strength`'s):
 
-* Barton & Choubey (1977), Rock Mechanics 10, 1-54: the residual friction angle phi_r.
-* Barton & Bandis (1982), 23rd US Symp. Rock Mech., 739-760: the scale corrections of JRC and JCS and the
-  peak shear displacement delta_peak.
+* Barton & Bandis (1982), 23rd US Symp. Rock Mech., 739-760: the peak shear displacement delta_peak.
 * Barton (1982), ONWI-308 (in situ block tests): the table of JRC_mob/JRC_peak against delta/delta_peak.
 * Barton, Bandis & Bakhtar (1985), IJRMMS 22(3), 121-140: the damage coefficient M of the dilation, the
   initial aperture a_j, and the closure fits quoted with lab-scale JRC_0, JCS_0.
@@ -21,9 +20,10 @@ Where the sources disagree, bbmc chose:
 
 (a) Closure at lab scale. The K_ni and V_m fits were made on lab specimens (Bandis et al. 1983) and
     Barton et al. (1985) write them with the lab values JRC_0, JCS_0, as do the functions here. Field
-    use calls for the scaled JRC_n, JCS_n (`scaled_jrc`, `scaled_jcs`) in the shear laws (delta_peak,
-    the mobilized angles), while the closure keeps the lab values: closure is set by the small-scale
-    asperity contacts that the lab specimen holds, and the fits are not valid for other values.
+    use calls for the scaled JRC_n, JCS_n (`strength.scaled_jrc`, `strength.scaled_jcs`) in the shear
+    laws (delta_peak, the mobilized angles), while the closure keeps the lab values: closure is set by
+    the small-scale asperity contacts that the lab specimen holds, and the fits are not valid for other
+    values.
 (b) Shear stiffness. Barton (1982) estimates K_s = (100/L) tau_p (L in m) from block tests, while the
     mobilized law here reaches tau_p at delta_peak, i.e. at the secant K_s = tau_p/delta_peak. The two
     agree near lab scale (L = 0.1 m, JRC = 10: 1000 tau_p vs 1094 tau_p per metre) and drift apart with
@@ -49,7 +49,6 @@ import numpy as np
 
 from bbmc.laws.strength import roughness_angle
 
-DEG = math.pi / 180.0
 MPA = 1.0e6
 MM = 1.0e-3
 MPA_PER_MM = MPA / MM
@@ -82,40 +81,6 @@ MIN_APERTURE = 1.0e-6  # [m] floor of a_j and V_m: 1 micrometre
 MIN_NORMAL_STIFFNESS = 0.01 * MPA_PER_MM  # [Pa/m] floor of the K_ni fit
 CLOSURE_GAP = 2.0**-52  # smallest 1 - dV/V_m used by bandis_closure_stress
 MAX_STRESS = 1.0e300  # [Pa] bandis_closure clamps sigma_n here (inf -> V_m)
-
-
-@numba.njit(cache=True)
-def scaled_jrc(jrc0: float, lab_length: float, field_length: float) -> float:
-    """JRC_n = JRC_0 (L_n/L_0)^(-0.02 JRC_0) [1] (Barton & Bandis 1982).
-
-    lab_length L_0, field_length L_n [m]. A non-positive length carries no scale: JRC_0 is returned.
-    """
-    if lab_length <= 0.0 or field_length <= 0.0:
-        return jrc0
-    return jrc0 * (field_length / lab_length) ** (-0.02 * jrc0)
-
-
-@numba.njit(cache=True)
-def scaled_jcs(jcs0: float, jrc0: float, lab_length: float, field_length: float) -> float:
-    """JCS_n = JCS_0 (L_n/L_0)^(-0.03 JRC_0) [Pa] (Barton & Bandis 1982).
-
-    jcs0 [Pa]; jrc0 [1]; lengths [m]. A non-positive length carries no scale: JCS_0 is returned.
-    """
-    if lab_length <= 0.0 or field_length <= 0.0:
-        return jcs0
-    return jcs0 * (field_length / lab_length) ** (-0.03 * jrc0)
-
-
-@numba.njit(cache=True)
-def residual_friction_angle(phi_b: float, rebound_ratio: float) -> float:
-    """phi_r = (phi_b - 20 deg) + 20 deg r/R [rad] (Barton & Choubey 1977).
-
-    phi_b [rad]; rebound_ratio r/R [1], Schmidt rebound on the weathered wet wall over the fresh dry one,
-    clamped to [0, 1] (so phi_b - 20 deg <= phi_r <= phi_b); the result is floored at 0 (no negative
-    friction). Evaluated as phi_b - 20 deg (1 - r/R), which is phi_b exactly at r/R = 1.
-    """
-    r = min(max(rebound_ratio, 0.0), 1.0)
-    return max(phi_b - 20.0 * DEG * (1.0 - r), 0.0)
 
 
 @numba.njit(cache=True)

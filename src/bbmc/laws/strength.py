@@ -1,7 +1,19 @@
-"""Barton-Bandis peak strength and its equivalent Mohr-Coulomb parameters (paper eqs 9-15).
+"""Barton-Bandis peak strength and its equivalent Mohr-Coulomb parameters (paper eqs 9-15), and the
+joint's values at field scale that both Barton-Bandis laws (this peak envelope and the mobilized one,
+`bbmc.laws.mobilized`) take.
 
-Scalar laws in SI (Pa, rad), compiled with numba so kernels call them directly; `bbmc.laws` exposes the
-same functions as numpy ufuncs. Compression positive.
+Scalar laws in SI (Pa, m, rad), compiled with numba so kernels call them directly; `bbmc.laws` exposes
+the same functions as numpy ufuncs. Compression positive.
+
+The values at field scale (the last three laws):
+
+* Barton & Bandis (1982), 23rd US Symp. Rock Mech., 739-760 (from Bandis, Lumsden & Barton 1981): JRC
+  and JCS measured at the lab length L_0, taken to the field length L_n:
+  JRC_n = JRC_0 (L_n/L_0)^(-0.02 JRC_0), JCS_n = JCS_0 (L_n/L_0)^(-0.03 JRC_0).
+* Barton & Choubey (1977), Rock Mechanics 10, 1-54: the residual friction angle
+  phi_r = (phi_b - 20 deg) + 20 deg r/R, and the envelope tau = sigma_n tan(JRC lg(JCS/sigma_n) + phi_r)
+  of a weathered joint, eq 9 with phi_r in place of phi_b: the functions here take whichever angle the
+  joint's envelope uses as `phi_b`.
 
 Rules at the edges of the criterion's range (each is a documented choice, never a NaN):
 
@@ -21,6 +33,7 @@ import math
 import numba
 
 LN10 = math.log(10.0)
+DEG = math.pi / 180.0
 
 
 @numba.njit(cache=True)
@@ -111,3 +124,37 @@ def equivalent_cohesion(
     if sigma_n <= 0.0:
         return 0.0
     return sigma_n * _tangent_drop(sigma_n, jrc, jcs, phi_b, phi_max, k)
+
+
+@numba.njit(cache=True)
+def scaled_jrc(jrc0: float, lab_length: float, field_length: float) -> float:
+    """JRC_n = JRC_0 (L_n/L_0)^(-0.02 JRC_0) [1] (Barton & Bandis 1982).
+
+    lab_length L_0, field_length L_n [m]. A non-positive length carries no scale: JRC_0 is returned.
+    """
+    if lab_length <= 0.0 or field_length <= 0.0:
+        return jrc0
+    return jrc0 * (field_length / lab_length) ** (-0.02 * jrc0)
+
+
+@numba.njit(cache=True)
+def scaled_jcs(jcs0: float, jrc0: float, lab_length: float, field_length: float) -> float:
+    """JCS_n = JCS_0 (L_n/L_0)^(-0.03 JRC_0) [Pa] (Barton & Bandis 1982).
+
+    jcs0 [Pa]; jrc0 [1]; lengths [m]. A non-positive length carries no scale: JCS_0 is returned.
+    """
+    if lab_length <= 0.0 or field_length <= 0.0:
+        return jcs0
+    return jcs0 * (field_length / lab_length) ** (-0.03 * jrc0)
+
+
+@numba.njit(cache=True)
+def residual_friction_angle(phi_b: float, rebound_ratio: float) -> float:
+    """phi_r = (phi_b - 20 deg) + 20 deg r/R [rad] (Barton & Choubey 1977).
+
+    phi_b [rad]; rebound_ratio r/R [1], Schmidt rebound on the weathered wet wall over the fresh dry one,
+    clamped to [0, 1] (so phi_b - 20 deg <= phi_r <= phi_b); the result is floored at 0 (no negative
+    friction). Evaluated as phi_b - 20 deg (1 - r/R), which is phi_b exactly at r/R = 1.
+    """
+    r = min(max(rebound_ratio, 0.0), 1.0)
+    return max(phi_b - 20.0 * DEG * (1.0 - r), 0.0)

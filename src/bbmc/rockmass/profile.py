@@ -104,3 +104,14 @@ def crack_water_table(
     toe, crest = surface[0], surface[-1]
     level = crest[1] - crack_depth * (1.0 - fill)
     return np.array([[toe[0], toe[1]], [crest[0] + behind_crest, level]])
+
+
+def profile_water_table(
+    surface: np.ndarray, crest_extent_m: float, height_above_toe_m: float, depth_below_crest_m: float
+) -> np.ndarray:
+    """The phreatic surface [m] given against the profile: straight from `height_above_toe_m` above the
+    toe (the surface's first point) to `depth_below_crest_m` below the crest's level at the model's back
+    edge, `crest_extent_m` behind the crest (the surface's last point); level beyond both."""
+    toe, crest = surface[0], surface[-1]
+    back = crest[0] + crest_extent_m
+    return np.array([[toe[0], toe[1] + height_above_toe_m], [back, crest[1] - depth_below_crest_m]])
