@@ -101,18 +101,18 @@ def _fs(face_deg: float, seed: int, sub_contacts: int | None = None) -> float:
 
 
 def test_a_rock_mass_defaults_to_its_converged_sub_contacts():
-    """The mass whose FS moved most with the count (65 deg, seed 3: 1.137 at 1 and 2 sub-contacts per
-    edge, 0.840 at 4, 0.809 at 8): at the rock-mass default (16) it is within the FS tolerance of 32
-    (measured: equal, 0.801), and 4 is not."""
-    tolerance = api.load_scene(_mass(65, 3)).fos.tolerance
-    assert api.load_scene(_mass(65, 3)).contacts.sub_contacts_per_edge == ROCK_MASS_SUB_CONTACTS
-    refined = _fs(65, 3, 32)
-    assert abs(_fs(65, 3) - refined) <= tolerance
-    assert abs(_fs(65, 3, 4) - refined) > tolerance
+    """The mass whose FS moved most with the count (80 deg, seed 1: 1.832 at 1 sub-contact per edge,
+    1.723 at 4, 1.691 at 16, 1.699 at 32): at the rock-mass default (16) it is within the FS tolerance
+    of 32, and 4 is not."""
+    tolerance = api.load_scene(_mass(80, 1)).fos.tolerance
+    assert api.load_scene(_mass(80, 1)).contacts.sub_contacts_per_edge == ROCK_MASS_SUB_CONTACTS
+    refined = _fs(80, 1, 32)
+    assert abs(_fs(80, 1) - refined) <= tolerance
+    assert abs(_fs(80, 1, 4) - refined) > tolerance
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("face_deg, seed", [(65, 3), (65, 1), (70, 3), (70, 1)])
+@pytest.mark.parametrize("face_deg, seed", [(65, 3), (65, 1), (70, 3), (70, 1), (80, 1)])
 def test_a_rock_masss_fs_converges_in_its_sub_contacts(face_deg, seed):
     """From 1 to 32 sub-contacts per edge: every count from the default on gives the FS at 32 within
     the FS tolerance (docs/how-to/solver-settings.md has the table)."""
