@@ -266,7 +266,7 @@ def test_a_study_in_which_no_sample_gives_a_result_exits_4_with_its_first_errors
         main, ["sweep", "--config", str(_config(tmp_path, data)), "--results", str(tmp_path / "out")]
     )
     assert outcome.exit_code == 4, outcome.output
-    assert "no sample gave a result: 100 of 100 failed to run" in outcome.output
+    assert "no sample gave a result of 100: 0 invalid, 100 failed runs, 0 impossible inputs" in outcome.output
     assert "sample 0 (and 99 more): no planar block: the crack depth" in outcome.output
     assert not (tmp_path / "out" / "sweep" / "planar_block").exists()
     assert len(list((tmp_path / "out" / "sweep" / "planar_block.progress").glob("*/batch_*.csv"))) == 2
@@ -355,3 +355,60 @@ def test_a_planar_study_with_an_uncertain_bolt_capacity(tmp_path, form):
     expected = n * 0.8 / (d - t) if form == "active" else (n * 0.8 + t) / d
     assert samples["factor_of_safety"].to_numpy() == pytest.approx(expected, rel=1e-12)
     assert expected[0] == pytest.approx(0.8 / math.tan(psi), rel=1e-12)
+
+
+def test_a_scene_that_cannot_stand_fails_and_one_with_an_unsupported_block_is_invalid(tmp_path):
+    """The block on its 30 deg plane, on a grid of friction (20 deg: it cannot stand under its own
+    strength; 40 deg: it stands) and of where it lies (on the plane, or beyond the plane's end: nothing
+    holds it). The block that slides gets its FS < 1 (tan 20 / tan 30 = 0.630, from the elastic start)
+    and counts in P_f; the one beyond the plane falls even with every strength x 1e6, so both samples
+    there are invalid, each with its reason in samples.csv and summary.csv; 2 of 4 samples without an
+    FS is more than 10 %: one line on stderr says so."""
+    scene = _config(tmp_path, fc.block_on_plane(fc.MOHR_COULOMB, 0.8, 0.2), "scene.yaml")
+    study = {
+        "name": "unsupported",
+        "base": {"kind": "scene_fos", "scene": str(scene)},
+        "grid": [
+            {"path": "joint_laws.joint.friction_deg", "values": [20.0, 40.0]},
+            {"path": "blocks.1.rectangle_m.x_m", "values": [-0.8, 2.0]},
+        ],
+        "sampling": {"method": "grid"},
+        "batch_size": 4,
+    }
+    outcome, out = _sweep(_config(tmp_path, study), tmp_path, "--workers", "1")
+    samples = pd.read_csv(out / "unsupported" / "samples.csv", keep_default_na=False, na_values=["nan", ""])
+    beyond = samples["blocks.1.rectangle_m.x_m"] == 2.0
+    assert (samples.loc[beyond, "outcome"] == "invalid").all()
+    assert samples.loc[beyond, "error"].str.contains("key 'blocks': no equilibrium even with every").all()
+    assert samples.loc[beyond, "error"].str.contains("block 'slider' moved").all()
+    on_plane = samples[~beyond].set_index("joint_laws.joint.friction_deg")
+    assert (on_plane["outcome"] == "valid").all()
+    tan30 = math.tan(math.radians(30.0))
+    assert on_plane.loc[20.0, "factor_of_safety"] == pytest.approx(
+        math.tan(math.radians(20.0)) / tan30, rel=0.02
+    )
+    assert on_plane.loc[40.0, "factor_of_safety"] > 1.0
+    summary = pd.read_csv(out / "unsupported" / "summary.csv").set_index("quantity")["value"]
+    assert summary["valid_samples"] == 2 and summary["invalid_samples"] == 2 and summary["failed_runs"] == 0
+    assert summary["probability_of_failure"] == 0.5
+    rows = [f"invalid_sample.{k}.blocks" for k in samples.index[beyond]]
+    assert all(row in summary.index and math.isnan(summary[row]) for row in rows)  # no realization: no seed
+    warning = [line for line in outcome.output.splitlines() if "warning: 2 of 4 samples (50 %" in line]
+    assert len(warning) == 1 and "more than 10 %" in warning[0] and "2 invalid" in warning[0]
+
+
+def test_an_invalid_realization_is_listed_with_its_seed():
+    """A study with a realization variable: each invalid sample's row in summary.csv holds its seed and
+    the key its error names; a valid sample and a failed run have none."""
+    samples = pd.DataFrame(
+        {
+            "blocks.0.rock_mass.seed": [11.0, 22.0, 33.0],
+            "factor_of_safety": [1.2, math.nan, math.nan],
+            "error": ["", "SimulationError: key 'blocks': no equilibrium ...", "ValueError: engine"],
+            "outcome": ["valid", "invalid", "failed_run"],
+        },
+        index=pd.RangeIndex(3, name="sample"),
+    )
+    inputs = stage.Inputs([("blocks.0.rock_mass.seed", stage.design.marginal("realization"))], {}, {})
+    rows = stage.invalid_rows(samples, stage.Outcomes.of(samples), inputs)
+    assert rows.values.tolist() == [["invalid_sample.1.blocks", 22.0, "seed"]]

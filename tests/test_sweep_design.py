@@ -320,17 +320,18 @@ def test_key_ranges_come_from_the_config_models():
 
 
 def test_failure_statistics_against_hand_values():
-    """FS = 0.8, 1.2, 1.4, 1.6, one failed run and one sample of impossible inputs: mean 1.25, std
-    sqrt(0.35 / 3) (ddof 1), P_f = 1/4; the indices by hand; all to rel 1e-12. Clopper-Pearson for 1
-    of 4: low = 1 - 0.975^(1/4) (the k = 1 closed form), high the p at which P(X <= 1) = 0.025."""
-    fs = np.array([0.8, 1.2, np.nan, 1.4, 1.6, np.nan])
-    errors = np.array([False, False, True, False, False, False])
-    impossible = np.array([False, False, False, False, False, True])
-    result = sweep_stats.failure_statistics(fs, errors, impossible)
+    """FS = 0.8, 1.2, 1.4, 1.6, one failed run, one sample of impossible inputs and one invalid: mean
+    1.25, std sqrt(0.35 / 3) (ddof 1), P_f = 1/4; the indices by hand; all to rel 1e-12. Clopper-Pearson
+    for 1 of 4: low = 1 - 0.975^(1/4) (the k = 1 closed form), high the p at which P(X <= 1) = 0.025."""
+    fs = np.array([0.8, 1.2, np.nan, 1.4, 1.6, np.nan, np.nan])
+    errors = np.array([False, False, True, False, False, False, False])
+    impossible = np.array([False, False, False, False, False, True, False])
+    invalid = np.array([False, False, False, False, False, False, True])
+    result = sweep_stats.failure_statistics(fs, errors, impossible, invalid)
     std = math.sqrt(0.35 / 3.0)
     v = std / 1.25
-    assert result["samples"] == 6 and result["failed_runs"] == 1 and result["valid_samples"] == 4
-    assert result["impossible_samples"] == 1
+    assert result["samples"] == 7 and result["failed_runs"] == 1 and result["valid_samples"] == 4
+    assert result["impossible_samples"] == 1 and result["invalid_samples"] == 1
     assert result["mean_fs"] == pytest.approx(1.25, rel=1e-12)
     assert result["std_fs"] == pytest.approx(std, rel=1e-12)
     assert result["probability_of_failure"] == 0.25
@@ -508,7 +509,7 @@ def test_figures_build_and_save(tmp_path):
     for name, fig in (
         ("tornado", figures.tornado_figure(rho, dpi=100)),
         ("distribution", figures.distribution_figure(fs, summary, dpi=100)),
-        ("convergence", figures.convergence_figure(convergence, dpi=100)),
+        ("convergence", figures.convergence_figure(convergence, summary, dpi=100)),
     ):
         assert fig.axes and all(ax.has_data() for ax in fig.axes)
         path = tmp_path / f"{name}.png"
@@ -526,7 +527,29 @@ def test_a_probability_of_failure_of_zero_is_printed_with_its_upper_bound():
     assert "$\\geq$ 3.96" in title and "FS at the mean inputs = 2.000" in title
     counts = sweep_stats.convergence_counts(fs.size)
     table = sweep_stats.convergence(fs, np.zeros(fs.size, dtype=bool), counts)
-    assert "95 % CI 0–3.69e-05" in figures.convergence_figure(table, dpi=60).get_suptitle()
+    assert "95 % CI 0–3.69e-05" in figures.convergence_figure(table, summary, dpi=60).get_suptitle()
+
+
+@pytest.mark.parametrize("samples", [3, 8, 12, 64, 100_000])
+def test_the_study_figures_tick_whole_samples_and_give_the_invalid_count(samples):
+    """The histogram's counts and the convergence plot's sample counts are ticked at whole numbers only
+    (a 12-sample study was ticked at 0.25 samples), each figure's title counts the invalid samples."""
+    fs = np.linspace(0.9, 1.4, samples)
+    invalid = np.zeros(samples, dtype=bool)
+    invalid[-1], fs[-1] = True, np.nan
+    errors = np.zeros(samples, dtype=bool)
+    summary = sweep_stats.failure_statistics(fs, errors, None, invalid)
+    table = sweep_stats.convergence(fs, invalid, sweep_stats.convergence_counts(samples))
+    histogram = figures.distribution_figure(fs, summary, dpi=60)
+    convergence = figures.convergence_figure(table, summary, dpi=60)
+    for fig in (histogram, convergence):
+        fig.canvas.draw()
+        assert f"{samples - 1} valid of {samples} samples (1 invalid," in fig.get_suptitle()
+    counts = [histogram.axes[0].yaxis] + [ax.xaxis for ax in convergence.axes]
+    for axis in counts:
+        low, high = sorted(axis.get_view_interval())
+        shown = [t for t in axis.get_majorticklocs() if low <= t <= high]
+        assert shown and all(t == round(t) for t in shown), shown
 
 
 @pytest.mark.parametrize(("p", "text"), [(0.0, "0"), (1.0, "1"), (3.6888e-5, "3.69e-05"), (0.25239, "0.252")])

@@ -53,7 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbmc import laws
+from bbmc import laws, units
 from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
@@ -329,8 +329,36 @@ def _equilibrium(
         if verdict == STABLE:
             return start, state, state.step, time.perf_counter() - started, from_rest
     raise SimulationError(
-        f"the scene finds no equilibrium in solver.steps = {budget} steps even with every strength x 1e6 "
-        "(elastic): raise solver.steps, or check that every block is supported"
+        _no_equilibrium(model, state, start_world, reason, settings, reference), bad_input=True
+    )
+
+
+def _no_equilibrium(
+    model: Model,
+    state: State,
+    start_world: np.ndarray,
+    reason: str,
+    settings: StrengthReduction,
+    reference: float,
+) -> str:
+    """Why even the elastic start finds no equilibrium, naming the block whose vertex moved most (how
+    far, how fast): a block that moved the failure displacement has nothing holding it (its geometry is
+    at fault, however many steps); one still moving when solver.steps ran out may only need more."""
+    moved = np.hypot(*(state.world - start_world).T)
+    block = int(model.vertex_block[np.argmax(moved)])
+    name, distance = model.block_names[block], float(moved.max()) / units.mm
+    speed = float(np.hypot(state.blocks[block, L.VX], state.blocks[block, L.VY]))
+    where = f"block '{name}' moved {distance:.3g} mm and moves at {speed:.3g} m/s after {state.step} steps"
+    if reason == "displacement":
+        return (
+            f"key 'blocks': no equilibrium even with every strength x 1e6 (elastic): {where}: nothing holds "
+            "it (more solver.steps will not help): give it a block or a held side to rest on, or fix it"
+        )
+    return (
+        f"key 'solver.steps': no equilibrium even with every strength x 1e6 (elastic) in {state.step} steps: "
+        f"the unbalanced-force ratio is {mon.unbalanced_force_ratio(state, reference):.3g} (limit "
+        f"{settings.unbalanced_force_ratio:g}); {where}: raise solver.steps if it is still settling, else "
+        "give it support or fix it"
     )
 
 

@@ -226,6 +226,8 @@ class RockMassConfig(Section):
     fixed_boundaries: list[Literal["left", "right", "bottom"]] = Field(
         default_factory=lambda: ["right", "bottom"]
     )  # blocks with an edge on these sides of the model have every degree of freedom held
+    held_sliver_fraction: Annotated[float, Field(ge=0, lt=1)] = 0.25  # of the median block: a smaller
+    # block with a vertex within the median block's size of a fixed side is held too (0: none)
 
     @model_validator(mode="after")
     def _sets(self) -> RockMassConfig:

@@ -8,6 +8,10 @@ making a concave profile convex: intact rock), joint.tension_crack, or "" (the m
 Cuts that would leave a block smaller than `min_block_fraction` x the median block are not made: the
 median is that of the same realization cut without this rule (a first pass), and the piece is left
 whole where the cut would have made the sliver. Blocks are never dropped, so the blocks tile the body.
+Held blocks: those with an edge on a fixed side, and the slivers near one: a block smaller than
+`held_sliver_fraction` x the median block (of this realization) with a vertex within the median
+block's size (the square root of its area) of a fixed side. Such a sliver, cut off against a held side
+by a joint, would otherwise be a block that nothing holds in place.
 Each set draws from its own stream (`numpy.random.SeedSequence(seed).spawn`), so a set's lines do not
 change when another set is added or changed.
 """
@@ -59,7 +63,8 @@ class SetSample:
 class RockMass:
     """A realization: convex counter-clockwise polygons [m] and their edge labels (edge k from vertex k
     to k + 1); `split_vertices` lists, per polygon, the vertices that split a straight edge where its
-    label changes (a trace's end); `held` the blocks with an edge on a fixed boundary."""
+    label changes (a trace's end); `held` the blocks with an edge on a fixed boundary and the slivers
+    near one (the module's docstring)."""
 
     polygons: list[np.ndarray]
     edge_labels: list[list[str]]
@@ -144,15 +149,27 @@ def _lay(
     return _sample(geometry.traces, geometry.mean, geometry.spacings_m, laid)
 
 
-def _held(polygons: list[np.ndarray], outline: np.ndarray, sides: list[str], tolerance: float) -> list[bool]:
-    """Blocks with an edge (two vertices) on one of the fixed sides of the model's box."""
+def _held(
+    polygons: list[np.ndarray], outline: np.ndarray, sides: list[str], tolerance: float, sliver: float
+) -> list[bool]:
+    """Blocks with an edge (two vertices) on one of the fixed sides of the model's box, and blocks
+    smaller than `sliver` x the median block with a vertex within the median block's size of one."""
     (left, bottom), (right, _) = outline.min(axis=0), outline.max(axis=0)
-    tests = {
-        "left": lambda v: v[:, 0] <= left + tolerance,
-        "right": lambda v: v[:, 0] >= right - tolerance,
-        "bottom": lambda v: v[:, 1] <= bottom + tolerance,
+    distance = {
+        "left": lambda v: v[:, 0] - left,
+        "right": lambda v: right - v[:, 0],
+        "bottom": lambda v: v[:, 1] - bottom,
     }
-    return [any(tests[side](p).sum() >= 2 for side in sides) for p in polygons]
+    areas = np.array([cut.area([tuple(point) for point in p]) for p in polygons])
+    median = float(np.median(areas))
+    reach = np.sqrt(median)
+    held = []
+    for polygon, block_area in zip(polygons, areas, strict=True):
+        gaps = [distance[side](polygon) for side in sides]
+        on_side = any(np.count_nonzero(gap <= tolerance) >= 2 for gap in gaps)
+        near = block_area < sliver * median and any(gap.min() <= reach for gap in gaps)
+        held.append(on_side or near)
+    return held
 
 
 def generate(config: RockMassConfig, seed: int | None = None) -> RockMass:
@@ -206,7 +223,9 @@ def generate(config: RockMassConfig, seed: int | None = None) -> RockMass:
         polygons=polygons,
         edge_labels=labels,
         split_vertices=splits,
-        held=_held(polygons, outline, list(config.fixed_boundaries), 1e-6 * size),
+        held=_held(
+            polygons, outline, list(config.fixed_boundaries), 1e-6 * size, config.held_sliver_fraction
+        ),
         traces=pd.DataFrame(trace_rows, columns=trace_columns),
         lines=pd.DataFrame(line_rows),
         sets=samples,

@@ -6,10 +6,18 @@ written): the base (a scene file is validated and built as `bbmc run` would), a 
 name, every varying path, each distribution's parameters, that it is sampled within the range its key
 accepts, and grid values within that range.
 
-Writes into <results>/sweep/<name>/: samples.csv (each sample's inputs and outputs, its error if its
-run failed or its inputs were impossible), summary.csv (`quantity,value,unit`: the counts of valid,
-failed and impossible samples, the FS at the mean inputs, mean and standard deviation of FS,
-probability of failure with its 95 % interval, reliability indices, the truncations),
+Every sample is accounted for: its `outcome` in samples.csv is `valid` (it has an FS, perhaps below 1:
+a failure), `invalid` (its own scene is at fault, chiefly its geometry: `bbmc.sweep.models`),
+`failed_run` (any other error) or `impossible_input` (not run). P_f is over the valid samples; a study
+in which more than `UNCOUNTED_WARNING` of the samples have no FS says so in one line on stderr.
+
+Writes into <results>/sweep/<name>/: samples.csv (each sample's inputs and outputs, its outcome, and
+its error where it has no output), summary.csv (`quantity,value,unit`: the counts of valid, invalid,
+failed and impossible samples, each invalid sample as a row `invalid_sample.<sample>.<key>` holding its
+seed (NaN for a study without a `realization` variable; <key> is the key its error names, the reason:
+`blocks` for a block that finds no equilibrium even elastically or blocks that overlap), the FS at the
+mean inputs, mean and standard deviation of FS, probability of failure with its 95 % interval,
+reliability indices, the truncations),
 convergence.csv and convergence.png (P_f and mean FS against the number of samples), sensitivity.csv
 (Spearman rank correlation of each input with FS; Sobol indices for a saltelli design),
 fs_distribution.png, tornado.png and provenance.json. The finished batches stay in
@@ -24,6 +32,7 @@ import difflib
 import hashlib
 import json
 import math
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,7 +51,17 @@ from bbmc.slope import safety
 from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design, figures, statistics
 from bbmc.sweep.config import Config, Planar, Toppling
-from bbmc.sweep.models import ERROR, FS, PlanarModel, SceneModel, TopplingModel, get_path
+from bbmc.sweep.models import (
+    ERROR,
+    FAILED_RUN,
+    FS,
+    INVALID,
+    OUTCOME,
+    PlanarModel,
+    SceneModel,
+    TopplingModel,
+    get_path,
+)
 from bbmc.sweep.ranges import Range, key_range
 from bbmc.sweep.runner import Model, run_batches
 
@@ -65,12 +84,47 @@ UNIT_SUFFIXES = (
     "m",
 )
 FIRST_ERRORS = 3  # distinct errors shown when no sample gave a result
-COUNTS = ("samples", "valid_samples", "failed_runs", "impossible_samples")  # summary.csv's first rows
+COUNTS = ("samples", "valid_samples", "invalid_samples", "failed_runs", "impossible_samples")  # first rows
+UNCOUNTED_WARNING = 0.10  # a study with more than this fraction of samples without an FS says so
+IMPOSSIBLE = "impossible_input"  # the outcome of a sample not run (`bbmc.sweep.models` has the others)
+STORE_VERSION = "2"  # in the batches' folder name: raised when the same study's results change
 
 
 class NoValidSampleError(Exception):
     """No sample of the study gave a result (every run failed or had impossible inputs): the message
     gives the counts and the first distinct errors, a few lines (exit status 4)."""
+
+
+@dataclass(frozen=True)
+class Outcomes:
+    """Each sample's outcome, as masks over the samples: invalid (its own scene at fault), failed run,
+    impossible inputs (not run); a sample in none of them is valid."""
+
+    invalid: np.ndarray
+    failed: np.ndarray
+    impossible: np.ndarray
+
+    @classmethod
+    def of(cls, samples: pd.DataFrame) -> Outcomes:
+        outcome = samples[OUTCOME].to_numpy()
+        return cls(outcome == INVALID, outcome == FAILED_RUN, outcome == IMPOSSIBLE)
+
+    @property
+    def excluded(self) -> np.ndarray:
+        """The samples without an FS: not counted in P_f."""
+        return self.invalid | self.failed | self.impossible
+
+    def counts(self) -> dict[str, int]:
+        """summary.csv's first rows (`COUNTS`)."""
+        masks = (~self.excluded, self.invalid, self.failed, self.impossible)
+        return dict(zip(COUNTS, [len(self.invalid), *(int(mask.sum()) for mask in masks)], strict=True))
+
+    def text(self) -> str:
+        """The samples without an FS, by outcome ("10 invalid, 0 failed runs, 0 impossible inputs")."""
+        return (
+            f"{int(self.invalid.sum())} invalid, {int(self.failed.sum())} failed runs, "
+            f"{int(self.impossible.sum())} impossible inputs"
+        )
 
 
 @dataclass(frozen=True)
@@ -215,9 +269,10 @@ def impossible_inputs(table: pd.DataFrame, ranges: dict[str, Range]) -> pd.Serie
 
 
 def study_key(config: Config, tree: dict | None) -> str:
-    """A digest of everything that decides the samples' results (config and base scene), naming the
-    folder of finished batches: a changed study never reuses another's batches."""
-    text = json.dumps(config.model_dump(mode="json"), sort_keys=True)
+    """A digest of everything that decides the samples' results (config, base scene and the version of
+    the batches' contents), naming the folder of finished batches: a changed study never reuses
+    another's batches."""
+    text = STORE_VERSION + json.dumps(config.model_dump(mode="json"), sort_keys=True)
     if tree is not None:
         text += json.dumps(tree, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
@@ -245,20 +300,27 @@ def truncation_rows(truncated: dict[str, design.Truncated]) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 
 
-def run_summary(
-    config: Config, samples: pd.DataFrame, errors: np.ndarray, impossible: np.ndarray
-) -> pd.DataFrame:
-    """summary.csv of a scene_run study: the monitor's mean and spread, failed runs, impossible inputs,
-    displacement stops."""
-    valid = ~(errors | impossible)
+def invalid_rows(samples: pd.DataFrame, outcomes: Outcomes, inputs: Inputs) -> pd.DataFrame:
+    """summary.csv's row of each invalid sample: `invalid_sample.<sample>.<key>`, <key> the key its
+    error names (its reason; "scene" if it names none), the value its realization's seed (NaN in a
+    study without a `realization` variable)."""
+    seeds = [path for path, dist in inputs.variables if isinstance(dist, design.Realizations)]
+    rows = []
+    for sample, row in samples[outcomes.invalid].iterrows():
+        named = re.search(r"key '([^']+)'", str(row[ERROR]))
+        seed = float(row[seeds[0]]) if seeds else math.nan
+        rows.append((f"invalid_sample.{sample}.{named.group(1) if named else 'scene'}", seed, "seed"))
+    return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
+
+
+def run_summary(config: Config, samples: pd.DataFrame, outcomes: Outcomes) -> pd.DataFrame:
+    """summary.csv of a scene_run study: the counts, the monitor's mean and spread, displacement stops."""
+    valid = ~outcomes.excluded
     values = samples.loc[valid, config.base.monitor].astype(float)
     stopped = samples.loc[valid, "stopped_by_displacement"].astype(float)
     return _rows(
         {
-            "samples": len(samples),
-            "valid_samples": int(valid.sum()),
-            "failed_runs": int(errors.sum()),
-            "impossible_samples": int(impossible.sum()),
+            **outcomes.counts(),
             f"mean_{config.base.monitor}": float(values.mean()),
             f"std_{config.base.monitor}": float(values.std()),
             "stopped_by_displacement": float(stopped.mean()),
@@ -300,7 +362,7 @@ def _run_samples(
         if possible.any()
         else pd.DataFrame(index=table.index[:0])
     )
-    skipped = table[~possible].assign(**{ERROR: impossible[~possible]})
+    skipped = table[~possible].assign(**{ERROR: impossible[~possible], OUTCOME: IMPOSSIBLE})
     return pd.concat([ran, skipped]).sort_index().rename_axis("sample")
 
 
@@ -336,15 +398,12 @@ def fs_at_mean_inputs(
 
 
 def _report_exclusions(
-    table: pd.DataFrame,
-    inputs: Inputs,
-    messages: pd.Series,
-    errors: np.ndarray,
-    impossible: np.ndarray,
-    say: Callable[[str], None],
+    table: pd.DataFrame, inputs: Inputs, messages: pd.Series, outcomes: Outcomes, say: Callable[[str], None]
 ) -> None:
-    """One line each for the samples with impossible inputs and for the failed runs, if any."""
+    """One line each for the samples with impossible inputs, the invalid ones and the failed runs, if
+    any; and one if more than `UNCOUNTED_WARNING` of the samples have no FS."""
     n = len(messages)
+    impossible, errors = outcomes.impossible, outcomes.failed
     if impossible.any():
         outside = {path: int((~inputs.ranges[path].contains(table[path])).sum()) for path in table.columns}
         detail = ", ".join(f"{path} outside {inputs.ranges[path]}: {k}" for path, k in outside.items() if k)
@@ -352,18 +411,30 @@ def _report_exclusions(
             f"{int(impossible.sum())} of {n} samples have impossible inputs ({detail}): not run, counted in "
             "summary.csv (impossible_samples); the statistics are over the valid samples"
         )
+    invalid = outcomes.invalid
+    if invalid.any():
+        say(
+            f"{int(invalid.sum())} of {n} samples are invalid, their own scene at fault (samples.csv, column "
+            f"error; summary.csv, invalid_sample.*); the first: {first_errors(messages[invalid], 1)[0]}"
+        )
     if errors.any():
         say(
             f"{int(errors.sum())} of {n} samples failed to run (samples.csv, column error); the first: "
             f"{first_errors(messages[errors], 1)[0]}"
         )
+    uncounted = int(outcomes.excluded.sum())
+    if uncounted > UNCOUNTED_WARNING * n:
+        say(
+            f"warning: {uncounted} of {n} samples ({100 * uncounted / n:.0f} %, more than "
+            f"{100 * UNCOUNTED_WARNING:.0f} %) have no FS ({outcomes.text()}): P_f is over the "
+            f"{n - uncounted} others only"
+        )
 
 
-def _no_valid_sample(messages: pd.Series, errors: np.ndarray, impossible: np.ndarray, store: Path) -> str:
+def _no_valid_sample(messages: pd.Series, outcomes: Outcomes, store: Path) -> str:
     return "\n".join(
         [
-            f"no sample gave a result: {int(errors.sum())} of {len(messages)} failed to run, "
-            f"{int(impossible.sum())} had impossible inputs; the first errors:",
+            f"no sample gave a result of {len(messages)}: {outcomes.text()}; the first errors:",
             *(f"  {line}" for line in first_errors(messages)),
             f"every sample's error is in {store}/batch_*.csv",
         ]
@@ -374,7 +445,7 @@ def fs_result(
     config: Config,
     samples: pd.DataFrame,
     inputs: Inputs,
-    excluded: tuple[np.ndarray, np.ndarray],
+    outcomes: Outcomes,
     at_mean: float | None,
     problem: dict | None,
     say: Callable[[str], None],
@@ -382,18 +453,14 @@ def fs_result(
     """The tables and figures of a study of FS: summary (with the FS at the mean inputs, none for a
     grid, and the truncations), convergence (not for a grid, whose order is not a random one),
     sensitivities, the FS distribution."""
-    errors, impossible = excluded
     fs = samples[FS].to_numpy(dtype=float)
+    invalid = invalid_rows(samples, outcomes, inputs)
     try:
-        stats = statistics.failure_statistics(fs, errors, impossible)
+        stats = statistics.failure_statistics(fs, outcomes.failed, outcomes.impossible, outcomes.invalid)
     except ValueError as error:  # fewer than two valid samples: nothing to summarise but the counts
         say(f"no statistics: {error}")
-        counts = {
-            "samples": len(samples),
-            "failed_runs": int(errors.sum()),
-            "impossible_samples": int(impossible.sum()),
-        }
-        return StageResult(tables={"samples": samples.reset_index(), "summary": _rows(counts)})
+        summary = pd.concat([_rows(outcomes.counts()), invalid], ignore_index=True)
+        return StageResult(tables={"samples": samples.reset_index(), "summary": summary})
     stats = (
         {key: stats[key] for key in COUNTS}
         | ({} if at_mean is None else {"fs_at_mean_inputs": at_mean})
@@ -408,13 +475,13 @@ def fs_result(
     )
     tables = {
         "samples": samples.reset_index(),
-        "summary": pd.concat([_rows(stats), truncation_rows(inputs.truncated)], ignore_index=True),
+        "summary": pd.concat([_rows(stats), invalid, truncation_rows(inputs.truncated)], ignore_index=True),
     }
     drawn = {"fs_distribution": figures.distribution_figure(fs, stats, config.figure_dpi)}
     if config.sampling.method != "grid":
-        convergence = statistics.convergence(fs, errors | impossible, statistics.convergence_counts(len(fs)))
+        convergence = statistics.convergence(fs, outcomes.excluded, statistics.convergence_counts(len(fs)))
         tables["convergence"] = convergence
-        drawn["convergence"] = figures.convergence_figure(convergence, config.figure_dpi)
+        drawn["convergence"] = figures.convergence_figure(convergence, stats, config.figure_dpi)
     try:
         ranks = statistics.spearman(samples[list(inputs.ranges)], fs)
     except ValueError as error:  # fewer than 3 valid samples
@@ -422,7 +489,7 @@ def fs_result(
         return StageResult(tables=tables, figures=drawn)
     sensitivity = ranks.rename("spearman_rho").to_frame()
     if problem is not None:
-        if (errors | impossible).any():
+        if outcomes.excluded.any():
             say("no Sobol indices: Saltelli's estimators need every sample, and some gave no FS")
         else:
             sensitivity = sensitivity.join(statistics.sobol_indices(problem, fs, config.sampling.seed))
@@ -459,14 +526,17 @@ def run(
     checks = impossible_inputs(table, inputs.ranges)
     samples = _run_samples(model, table, checks, store, config, scheduler, workers, say)
     messages = samples[ERROR].fillna("").astype(str)
-    impossible = (checks != "").to_numpy()
-    errors = (messages != "").to_numpy() & ~impossible
-    if (errors | impossible).all():
-        raise NoValidSampleError(_no_valid_sample(messages, errors, impossible, store))
-    _report_exclusions(table, inputs, messages, errors, impossible, say)
+    outcomes = Outcomes.of(samples)
+    if outcomes.excluded.all():
+        raise NoValidSampleError(_no_valid_sample(messages, outcomes, store))
+    _report_exclusions(table, inputs, messages, outcomes, say)
     if config.base.kind == "scene_run":
-        summary = [run_summary(config, samples, errors, impossible), truncation_rows(inputs.truncated)]
+        summary = [
+            run_summary(config, samples, outcomes),
+            invalid_rows(samples, outcomes, inputs),
+            truncation_rows(inputs.truncated),
+        ]
         return StageResult(
             tables={"samples": samples.reset_index(), "summary": pd.concat(summary, ignore_index=True)}
         )
-    return fs_result(config, samples, inputs, (errors, impossible), at_mean, problem, say)
+    return fs_result(config, samples, inputs, outcomes, at_mean, problem, say)

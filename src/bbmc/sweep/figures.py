@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
-from matplotlib.ticker import FuncFormatter, LogFormatter
+from matplotlib.ticker import FixedLocator, FuncFormatter, MaxNLocator, NullLocator
 from numpy.typing import ArrayLike
 
 from bbmc import plots  # noqa: F401  (selects the Agg backend before any figure is drawn)
@@ -79,6 +79,26 @@ def _beta_from_pf(stats: dict) -> str:
     return f"$\\beta_{{P_f}}$ = {_beta(beta)}"
 
 
+def counts_text(stats: dict) -> str:
+    """How many samples have an FS, and why the others have none."""
+    return (
+        f"{stats['valid_samples']} valid of {stats['samples']} samples ({stats['invalid_samples']} invalid, "
+        f"{stats['failed_runs']} failed runs, {stats['impossible_samples']} impossible inputs)"
+    )
+
+
+def whole_sample_ticks(first: int, last: int) -> list[int]:
+    """Ticks for a log axis of sample counts from `first` to `last`: whole samples only, at 1, 2 and 5
+    per decade (over more than two decades, 1 alone) where at least three fall in the range, else at
+    most 6 whole numbers evenly spread (one study of one count: that count)."""
+    steps = (1, 2, 5) if last <= 100 * first else (1,)
+    ticks = [m * 10**k for k in range(len(str(last))) for m in steps if first <= m * 10**k <= last]
+    if len(ticks) >= 3:
+        return ticks
+    spread = MaxNLocator(nbins=5, integer=True).tick_values(first, last)
+    return sorted({int(t) for t in spread if first <= t <= last} | {first, last})
+
+
 def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
     """(a) Histogram of FS over the valid samples, failing samples (FS < 1) shaded; (b) empirical CDF
     of FS, whose height at FS = 1 is P_f. FS = 1 is marked on both; P_f with its Clopper-Pearson 95 %
@@ -92,6 +112,7 @@ def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
     ax_h.hist(values[values >= 1.0], bins=edges, color=POSITIVE, alpha=0.8, label="FS $\\geq$ 1 (stable)")
     ax_h.hist(values[values < 1.0], bins=edges, color=NEGATIVE, alpha=0.8, label="FS < 1 (fails)")
     ax_h.set(xlabel="factor of safety FS (-)", ylabel="number of samples", title="(a) histogram of FS")
+    ax_h.yaxis.set_major_locator(MaxNLocator(integer=True))  # whole samples
     ecdf = np.arange(1, values.size + 1) / values.size
     ax_c.step(values, ecdf, where="post", color="k", label="empirical CDF")
     p_f = stats["probability_of_failure"]
@@ -113,19 +134,19 @@ def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
         f"$\\beta_{{normal}}$ = {_beta(stats['reliability_index_normal'])},  "
         f"$\\beta_{{lognormal}}$ = {_beta(stats['reliability_index_lognormal'])}\n"
         + (f"FS at the mean inputs = {at_mean:.3f};  " if math.isfinite(at_mean) else "")
-        + f"mean FS = {stats['mean_fs']:.3f}, std = {stats['std_fs']:.3f};  "
-        f"{values.size} valid of {stats['samples']} samples ({stats['failed_runs']} failed runs, "
-        f"{stats['impossible_samples']} impossible inputs)",
+        + f"mean FS = {stats['mean_fs']:.3f}, std = {stats['std_fs']:.3f};  {counts_text(stats)}",
         fontsize=10,
     )
     return fig
 
 
-def convergence_figure(table: pd.DataFrame, dpi: int) -> Figure:
+def convergence_figure(table: pd.DataFrame, stats: dict, dpi: int) -> Figure:
     """(a) P_f over the first n samples with its Clopper-Pearson 95 % band, (b) mean FS with its 95 %
-    band (mean -+ 1.96 sigma / sqrt(n)), both against n on a log axis (`statistics.convergence`); the
-    whole study's value dotted on each."""
+    band (mean -+ 1.96 sigma / sqrt(n)), both against n on a log axis with ticks at whole samples
+    (`statistics.convergence`); the whole study's value dotted on each; the title says how many samples
+    have an FS (`counts_text`: `stats` is `statistics.failure_statistics`')."""
     n = table["samples"].to_numpy(dtype=float)
+    ticks = whole_sample_ticks(int(n[0]), int(n[-1]))
     fig = Figure(figsize=(11, 4.2), dpi=dpi, layout="constrained")
     ax_p, ax_m = fig.subplots(1, 2)
     panels = (
@@ -139,8 +160,9 @@ def convergence_figure(table: pd.DataFrame, dpi: int) -> Figure:
         ax.plot(n, value, color=colour, marker="o", markersize=3, label="over the first n samples")
         ax.axhline(value[-1], color="k", linestyle=":", linewidth=1.0, label=f"all {int(n[-1])} samples")
         ax.set_xscale("log")
+        ax.xaxis.set_major_locator(FixedLocator(ticks))
+        ax.xaxis.set_minor_locator(NullLocator())
         ax.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
-        ax.xaxis.set_minor_formatter(LogFormatter(labelOnlyBase=False))  # labels within one decade only
         ax.set(xlabel="number of samples n (-)", ylabel=ylabel, title=title)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=8, loc="upper right")
@@ -149,7 +171,7 @@ def convergence_figure(table: pd.DataFrame, dpi: int) -> Figure:
     fig.suptitle(
         f"Convergence: $P_f$ = {probability_text(last['probability_of_failure'])} (95 % CI "
         f"{probability_text(last['pf_ci_low'])}–{probability_text(last['pf_ci_high'])}), "
-        f"mean FS = {last['mean_fs']:.3f} at n = {int(n[-1])}",
+        f"mean FS = {last['mean_fs']:.3f} at n = {int(n[-1])}; {counts_text(stats)}",
         fontsize=10,
     )
     return fig

@@ -1,6 +1,15 @@
 """What a sweep evaluates: a batch of samples (a table of inputs by dotted path) in, a table of outputs
-out, one row per sample, in the same order. A sample whose model fails (bad geometry, an unstable run)
-gets its error text and no output, and the others go on.
+out, one row per sample, in the same order. A sample whose model fails gets its error text and no
+output, and the others go on; its `outcome` says why it has no output:
+
+* `invalid`: a scene sample whose own scene is at fault, chiefly its geometry: it cannot be built
+  (blocks overlapping, joint sets that make no block: a `ConfigError`), or its run is refused as bad
+  input (a block that finds no equilibrium even with every strength x 1e6: `SimulationError` with
+  `bad_input`). Its error names the key at fault.
+* `failed_run`: any other error (an engine fault, a limit-equilibrium model's impossible geometry).
+
+A sample with an output is `valid`; one whose FS is below 1 is a failure like any other (a scene that
+cannot stand under its own strengths gets FS < 1 from its elastic start, `bbmc.dem.strength_reduction`).
 
 Models are plain frozen dataclasses holding only the base's data, so they pickle to worker processes
 and dask workers; numba's compiled kernels come from its on-disk cache in each process.
@@ -24,6 +33,8 @@ from bbmc.slope import planar, toppling
 
 FS = "factor_of_safety"
 ERROR = "error"
+OUTCOME = "outcome"
+VALID, INVALID, FAILED_RUN = "valid", "invalid", "failed_run"
 
 
 def _step(tree: object, key: str) -> tuple[object, object]:
@@ -56,6 +67,17 @@ def set_path(tree: object, path: str, value: float) -> None:
 
 def _errors(n: int) -> np.ndarray:
     return np.full(n, "", dtype=object)
+
+
+def _limit_equilibrium_table(fs: np.ndarray, errors: np.ndarray, index: pd.Index) -> pd.DataFrame:
+    """A limit-equilibrium batch's outputs: a sample with an error is a failed run."""
+    outcome = np.where(errors == "", VALID, FAILED_RUN)
+    return pd.DataFrame({FS: fs, ERROR: errors, OUTCOME: outcome}, index=index)
+
+
+def scene_at_fault(error: Exception) -> bool:
+    """Whether a scene sample's error lies in its own scene (its geometry): invalid, not a failed run."""
+    return isinstance(error, ConfigError) or (isinstance(error, SimulationError) and error.bad_input)
 
 
 @dataclass(frozen=True)
@@ -124,7 +146,7 @@ class PlanarModel:
                     fs[k] = self._fs(inputs.iloc[[k]])[0]
                 except ValueError as error:
                     errors[k] = str(error)
-        return pd.DataFrame({FS: fs, ERROR: errors}, index=inputs.index)
+        return _limit_equilibrium_table(fs, errors, inputs.index)
 
 
 SUPPORT_KEYS = ("block", "force_kN_per_m", "angle_deg", "height_m")  # a toppling base's support
@@ -179,7 +201,7 @@ class TopplingModel:
                 )
             except ValueError as error:
                 errors[rows] = str(error)
-        return pd.DataFrame({FS: fs, ERROR: errors}, index=inputs.index)
+        return _limit_equilibrium_table(fs, errors, inputs.index)
 
 
 @dataclass(frozen=True)
@@ -211,9 +233,10 @@ class SceneModel:
         rows = []
         for _, values in inputs.iterrows():
             try:
-                row = {**self._one(values), ERROR: ""}
+                row = {**self._one(values), ERROR: "", OUTCOME: VALID}
             except (ConfigError, SimulationError, ValueError, KeyError) as error:
-                row = {ERROR: f"{type(error).__name__}: {error}"}
+                outcome = INVALID if scene_at_fault(error) else FAILED_RUN
+                row = {ERROR: f"{type(error).__name__}: {error}", OUTCOME: outcome}
             rows.append(row)
         columns = [FS] if self.kind == "scene_fos" else [self.monitor, "stopped_by_displacement"]
-        return pd.DataFrame(rows, index=inputs.index).reindex(columns=[*columns, ERROR])
+        return pd.DataFrame(rows, index=inputs.index).reindex(columns=[*columns, ERROR, OUTCOME])

@@ -5,7 +5,8 @@ Definitions follow RocPlane's probabilistic analysis (Rocscience, RocPlane: Prob
 Reliability index) and Hoek (2007, Practical Rock Engineering, ch. 8 "Factor of safety and probability
 of failure"):
 
-    P_f = (number of valid samples with FS < 1) / n        (n valid samples: run, and did not fail)
+    P_f = (number of valid samples with FS < 1) / n        (n valid samples: run, with an FS; not
+                                                         invalid, failed or impossible)
     beta_Pf        = -Phi^-1(P_f)                          (the normal FS that has this P_f)
     beta_normal    = (mu_FS - 1) / sigma_FS
     beta_lognormal = ln(mu_FS / sqrt(1 + V^2)) / sqrt(ln(1 + V^2)),   V = sigma_FS / mu_FS
@@ -100,12 +101,14 @@ def _valid_fs(fs: ArrayLike, excluded: ArrayLike) -> tuple[np.ndarray, np.ndarra
 
 
 def failure_statistics(
-    fs: ArrayLike, errors: ArrayLike, impossible: ArrayLike | None = None
+    fs: ArrayLike, errors: ArrayLike, impossible: ArrayLike | None = None, invalid: ArrayLike | None = None
 ) -> dict[str, float]:
     """The sweep's summary: FS per sample (NaN where the run failed or was not run), the mask of failed
-    runs and that of samples not run for impossible inputs (none if not given).
+    runs, that of samples not run for impossible inputs and that of invalid samples (their own scene at
+    fault; `bbmc.sweep.models`), the last two none if not given.
 
-    Returns samples (all), valid_samples, failed_runs, impossible_samples, mean_fs, std_fs (ddof = 1),
+    Returns samples (all), valid_samples, invalid_samples, failed_runs, impossible_samples, mean_fs,
+    std_fs (ddof = 1),
     probability_of_failure (fraction of valid samples with FS < 1), pf_ci_low and pf_ci_high
     (Clopper-Pearson 95 %), standard_error (sqrt(p (1 - p) / n)), reliability_index_pf (-Phi^-1(P_f)),
     reliability_index_pf_lower_bound (-Phi^-1(pf_ci_high)), reliability_index_normal and
@@ -113,16 +116,17 @@ def failure_statistics(
     A sample not marked in either mask must have a finite FS (ValueError otherwise).
     """
     errors = np.asarray(errors, dtype=bool).ravel()
-    impossible = (
-        np.zeros(errors.shape, dtype=bool) if impossible is None else np.asarray(impossible, dtype=bool)
+    impossible, invalid = (
+        np.zeros(errors.shape, dtype=bool) if mask is None else np.asarray(mask, dtype=bool).ravel()
+        for mask in (impossible, invalid)
     )
-    fs, valid = _valid_fs(fs, errors | impossible.ravel())
+    fs, valid = _valid_fs(fs, errors | impossible | invalid)
     values = fs[valid]
     n = values.size
     if n < 2:
         raise ValueError(
-            f"{n} valid sample(s) out of {fs.size} ({int(errors.sum())} failed runs, "
-            f"{int(impossible.sum())} impossible inputs): no statistics"
+            f"{n} valid sample(s) out of {fs.size} ({int(invalid.sum())} invalid, {int(errors.sum())} "
+            f"failed runs, {int(impossible.sum())} impossible inputs): no statistics"
         )
     mean, std = float(values.mean()), float(values.std(ddof=1))
     failures = int(np.count_nonzero(values < 1.0))
@@ -131,6 +135,7 @@ def failure_statistics(
     return {
         "samples": int(fs.size),
         "valid_samples": int(n),
+        "invalid_samples": int(invalid.sum()),
         "failed_runs": int(errors.sum()),
         "impossible_samples": int(impossible.sum()),
         "mean_fs": mean,
