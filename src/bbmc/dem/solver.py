@@ -27,7 +27,7 @@ from bbmc.dem.detection import candidate_pairs, vertex_penetration
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.pace import Pace
 from bbmc.dem.scene import Scene
-from bbmc.dem.stopping import STOP_REASONS, Watch, moved_beyond_stop, stop_reason
+from bbmc.dem.stopping import STOP_REASONS, Watch, far_from_balance, moved_beyond_stop, stop_reason, unsettled
 from bbmc.kernel_cache import announce_engine_compile
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
@@ -429,8 +429,8 @@ def simulate(
         stopped_by = stop_reason(model, state, reference) or (
             trend.verdict(model, state, reference) if trend else ""
         )
-    if not stopped_by and solver.stop is not None:
-        warnings.append(_unsettled(model, state, reference, energy_before))
+    if not stopped_by and far_from_balance(model, state, reference):
+        warnings.append(unsettled(model, state, reference, energy_before))
     return RunResult(
         history=pd.DataFrame(records),
         blocks=mon.block_table(model, state.blocks),
@@ -438,21 +438,6 @@ def simulate(
         summary=_summary(model, state, stopped_by, warnings),
         warnings=warnings,
         state=state,
-    )
-
-
-def _unsettled(model: Model, state: State, reference: float, energy_before: float) -> str:
-    """The one line for a run that used all its steps without meeting its stop: what still moves, and
-    whether its kinetic energy rose over the last record interval."""
-    speed = np.hypot(state.blocks[:, L.VX], state.blocks[:, L.VY])
-    fastest = int(np.argmax(np.where(state.immobile, -1.0, speed)))
-    energy = mon.kinetic_energy(state.blocks)
-    return (
-        f"step {state.step}: solver.steps ran out before the stop was met: unbalanced-force ratio "
-        f"{mon.unbalanced_force_ratio(state, reference):.3g}, kinetic energy {energy:.3g} J per m, "
-        f"{'rising' if energy > energy_before else 'falling'}; block '{model.block_names[fastest]}' moves "
-        f"at {speed[fastest]:.3g} m/s. Blocks that keep moving are failing (bbmc fos gives the factor of "
-        "safety); a slope still settling needs more steps"
     )
 
 

@@ -92,3 +92,35 @@ def stop_reason(model: Model, state: State, reference: float) -> str:
     ):
         return "equilibrium"
     return ""
+
+
+UNSETTLED_MULTIPLE = 10.0  # a run that ends above this x its stop's unbalanced-force ratio is unsettled
+ROUND_OFF_MOTION = 1e-12  # kinetic energy below the reference force over this x the median block size:
+# motion at round-off (a closure of 1e-13 m under a 100 m block leaves a ratio of 5e-3 and 2e-16 J)
+
+
+def far_from_balance(model: Model, state: State, reference: float) -> bool:
+    """Whether a run that used all its steps ended far from its stop's equilibrium: its unbalanced-force
+    ratio above UNSETTLED_MULTIPLE x the stop's, and its blocks moving above round-off."""
+    stop = model.scene.solver.stop
+    if stop is None or stop.unbalanced_force_ratio is None:
+        return False
+    ratio = mon.unbalanced_force_ratio(state, reference)
+    unbalanced = ratio > UNSETTLED_MULTIPLE * stop.unbalanced_force_ratio
+    size = float(np.median(state.blocks[:, L.SIZE]))
+    return unbalanced and mon.kinetic_energy(state.blocks) > ROUND_OFF_MOTION * reference * size
+
+
+def unsettled(model: Model, state: State, reference: float, energy_before: float) -> str:
+    """The one line for a run that used all its steps without meeting its stop: what still moves, and
+    whether its kinetic energy rose over the last record interval."""
+    speed = np.hypot(state.blocks[:, L.VX], state.blocks[:, L.VY])
+    fastest = int(np.argmax(np.where(state.immobile, -1.0, speed)))
+    energy = mon.kinetic_energy(state.blocks)
+    return (
+        f"step {state.step}: solver.steps ran out before the stop was met: unbalanced-force ratio "
+        f"{mon.unbalanced_force_ratio(state, reference):.3g}, kinetic energy {energy:.3g} J per m, "
+        f"{'rising' if energy > energy_before else 'falling'}; block '{model.block_names[fastest]}' moves "
+        f"at {speed[fastest]:.3g} m/s. Blocks that keep moving are failing (bbmc fos gives the factor of "
+        "safety); a slope still settling needs more steps"
+    )
