@@ -30,14 +30,14 @@ from bbmc.dem.solver import advance, prepare
 
 BENCHED = Path(__file__).parent.parent / "configs" / "scenes" / "benched_rock_mass.yaml"
 STEPS = 4000
-# Measured once against every 10 steps: 1.55e-5 of the block's size on the shipped benched rock mass
-# (0.05 mm against a settlement of 0.85 mm), 4e-8 to 9.6e-6 on four generated masses. Not the 1e-6 the
+# Measured once against every 10 steps: 2.8e-5 of the block's size on the shipped benched rock mass
+# (its settlement is 0.5 mm), 4e-8 to 9.6e-6 on four generated masses. Not the 1e-6 the
 # issue asks for on every mass: a search finds a few corner-against-face pairs that the search at step
 # 0 left to their neighbouring face contact (the corner rule of `detection.facing_edges` is decided at
 # each search, on the geometry then), and the frictional settling path that follows differs by that
 # much. Before (f9a8fe6) the shipped mass differed by 5.9e-4 of the block size (its whole settlement),
 # with 39 bridge contacts, 31 broken, against 20 intact.
-DISPLACEMENT_TOLERANCE = 2e-5
+DISPLACEMENT_TOLERANCE = 3e-5
 
 
 def _scene(seed: int | None = None, persistence: float | None = None, margin: float | None = None) -> dict:
@@ -99,7 +99,7 @@ def _settled_both_ways(scene: dict):
 def test_the_benched_rock_mass_settles_the_same_whether_the_search_runs_once_or_every_10_steps():
     (model_a, once), (model_b, often) = _settled_both_ways(_scene())
     assert once.searches == 1
-    assert _bridges(model_a, once) == _bridges(model_b, often) == (20, 0)
+    assert _bridges(model_a, once) == _bridges(model_b, often) == (19, 0)
     assert _relative_difference(once, often) < DISPLACEMENT_TOLERANCE
 
 
@@ -113,7 +113,7 @@ def test_generated_rock_masses_keep_one_contact_per_bridge_whatever_the_search(s
 
 @pytest.mark.parametrize("seed, persistence", [(1, 0.6), (2, 0.8), (7, 0.9), (11, 0.6)])
 def test_generated_rock_masses_settle_to_the_same_state_whatever_the_search(seed, persistence):
-    """Measured: 8.9e-8, 4.2e-8, 9.6e-6 and 6.2e-8 of the block size; the same bridges intact (26, 18
+    """Measured: 1.5e-7, 4.2e-8, 9.6e-6 and 6.2e-8 of the block size; the same bridges intact (26, 18
     of 19, 17 of 18, 18). Before the corner rule's tie was fixed, up to 8.2e-5 and 2 bridges broken
     against 1."""
     (model_a, once), (model_b, often) = _settled_both_ways(_scene(seed=seed, persistence=persistence))
@@ -125,7 +125,7 @@ def test_generated_rock_masses_settle_to_the_same_state_whatever_the_search(seed
 def test_a_tiny_search_margin_keeps_every_bridge_and_reaches_equilibrium(tmp_path):
     """At a margin of 1e-5 m the search runs every few steps; bbmc run reaches equilibrium at the same
     step, with one row per bridge contact in bridges.csv and none broken (measured: equilibrium at step
-    4,000 either way, 176 searches against 1, 20 rows; before: no equilibrium in 20,000 steps, 44 rows,
+    4,000 either way, 150 searches against 1, 19 rows; before: no equilibrium in 20,000 steps, 44 rows,
     35 broken). Equilibrium is read at record steps: the steps may differ by one record."""
     tables = {}
     for name, margin in (("default", None), ("tiny", 1e-5)):
