@@ -86,6 +86,9 @@ def _small(data):
     data["scaling"] = {"block_counts": [100, 300], "steps": 20, "repeats": 1, "memory_limit_GB": 4}
     data["laws"] = {"array_size": 2000, "python_loop_size": 200, "repeats": 1}
     data["engine_cost"] = {"commit": "deadbeef", "block_counts": [100], "steps": 20, "repeats": 1}
+    data["rockmass"] = {"spacing_scale": 3.0, "steps": 20, "repeats": 1}  # about 1,100 blocks, not 10,000
+    data["fos"]["variants"] = {"sub_contacts_8": data["fos"]["variants"]["sub_contacts_8"]}  # 1 of 7
+    data["sweep"] = {"le_samples": 10_000, "dem_samples": 2, "repeats": 1}
     data["support"] |= {"commit": "deadbeef", "repeats": 1}
     data["support"]["design_scene"] = str((CONFIGS / data["support"]["design_scene"]).resolve())
 
@@ -100,6 +103,7 @@ def test_bench_writes_every_file(bench_run):
     for stem in ("tradeoff", "scaling"):
         assert {f"{stem}.csv", f"{stem}.png"} <= names
     assert {"tradeoff_readings.csv", "recommended.csv", "economy.csv", "laws.csv", "provenance.json"} <= names
+    assert {"fos_cost.csv", "sweep_cost.csv", "rockmass_cost.csv"} <= names
 
 
 def test_engine_cost_says_why_when_the_commit_cannot_be_checked_out(bench_run):
