@@ -12,7 +12,8 @@ import yaml
 
 from bbmc import api
 from bbmc.dem import layout as L
-from bbmc.dem.model import GLUED_CUT, BreakableCut, built_scene
+from bbmc.dem.contact_rules import GLUED_CUT, BreakableCut
+from bbmc.dem.model import built_scene
 from bbmc.dem.scene import ROCK_MASS_SUB_CONTACTS
 from bbmc.dem.solver import prepare
 

@@ -14,7 +14,8 @@ from click.testing import CliRunner
 
 from bbmc import api
 from bbmc.cli import main
-from bbmc.dem.model import GLUED_CUT, build_model
+from bbmc.dem.contact_rules import GLUED_CUT
+from bbmc.dem.model import build_model
 from bbmc.rockmass import generate
 from bbmc.sweep import design
 from stage_runs import refused

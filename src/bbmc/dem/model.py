@@ -8,14 +8,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from bbmc import units
-from bbmc.config import closest, validate
+from bbmc.config import validate
 from bbmc.dem import layout as L
 from bbmc.dem import polygons
 from bbmc.dem.block_shapes import (
@@ -24,14 +23,13 @@ from bbmc.dem.block_shapes import (
     check_shapes,
     edge_labels,
     entry_shapes,
-    possible_labels,
     start_overlap_fault,
     turned,
 )
+from bbmc.dem.contact_rules import check_rule_edges, cuts_glued_or_warned
 from bbmc.dem.joint_types import joint_types
 from bbmc.dem.scene import (
     BlockEntry,
-    Contacts,
     Monitor,
     Scene,
     scene_error,
@@ -39,13 +37,6 @@ from bbmc.dem.scene import (
 from bbmc.rockmass.cut import CUT
 from bbmc.rockmass.profile import crack_water_table, profile_water_table
 from bbmc.support.elements import SupportElements, support_elements
-
-GLUED_CUT = "cut (glued)"  # the joint type of the cuts without a rule of their own (`_cuts_glued_or_warned`)
-
-
-class BreakableCut(UserWarning):
-    """A scene gives the generator's fictitious cuts a law that can slip or break."""
-
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 
@@ -181,24 +172,6 @@ def _water_table(scene: Scene, path: Path) -> np.ndarray:
     return crack_water_table(profile.surface(), crack.distance_behind_crest_m, crack.depth_m, fill)
 
 
-def _rule_labels(scene: Scene) -> list[str]:
-    """What a contact rule's `edges` may name: every label the scene's edges can carry
-    (`possible_labels`: a realization may lack some) and each of its dotted prefixes (`bridge` for all
-    the bridge.<set>)."""
-    labels = {label for entry in scene.blocks for label in possible_labels(entry)}
-    parts = [label.split(".") for label in labels]
-    return sorted({".".join(p[:n]) for p in parts for n in range(1, len(p) + 1)})
-
-
-def _check_rule_edges(edges: str, scene: Scene, path: Path, key: str) -> None:
-    """ConfigError naming `key` and the closest valid label where no edge of the scene can carry `edges`
-    (a misspelt label would otherwise select nothing and leave its contacts on the default law)."""
-    choices = _rule_labels(scene)
-    if edges not in choices:
-        hint = closest(edges, choices, "labels") if choices else " (no edge of the scene carries a label)"
-        raise scene_error(path, key, f"no edge can carry the label '{edges}'{hint}")
-
-
 def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> int:
     n = len(vertices)
     if isinstance(edge, int):
@@ -329,10 +302,10 @@ def build_model(scene: Scene, path: Path) -> Model:
         if rule.dip_deg:
             rule_dip[r] = np.array(rule.dip_deg) * units.deg
         if rule.edges is not None:
-            _check_rule_edges(rule.edges, scene, path, f"{key}.edges")
+            check_rule_edges(rule.edges, scene, path, f"{key}.edges")
             rule_edges[r] = [x == rule.edges or x.startswith(rule.edges + ".") for x in label_names]
     if CUT in label_names:
-        law_names, law_codes, params, rule_groups, rule_dip, rule_law, rule_edges = _cuts_glued_or_warned(
+        law_names, law_codes, params, rule_groups, rule_dip, rule_law, rule_edges = cuts_glued_or_warned(
             contacts, law_names, law_codes, params, rule_groups, rule_dip, rule_law, rule_edges, label_names
         )
 
@@ -406,54 +379,6 @@ def build_model(scene: Scene, path: Path) -> Model:
                 path, f"monitoring.monitors.{k}.support", f"no support element named '{m.support}'"
             )
     return dataclasses.replace(model, support=support)
-
-
-def _cuts_glued_or_warned(
-    contacts: Contacts,
-    law_names: list[str],
-    law_codes: np.ndarray,
-    params: np.ndarray,
-    rule_groups: np.ndarray,
-    rule_dip: np.ndarray,
-    rule_law: np.ndarray,
-    rule_edges: np.ndarray,
-    label_names: list[str],
-) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The rule for the generator's fictitious cuts (edges labelled `cut`): they only make blocks
-    convex and are not rock that can break, so they never decide a factor of safety. Without a contact
-    rule naming `edges: cut`, a first rule glues them: the joint type GLUED_CUT, intact rock elastic
-    with the default law's stiffness and of infinite cohesion and tensile strength, which neither slips
-    nor breaks and which strength reduction leaves infinite (its strength / F). It breaks into the
-    default law only where no bond forms: where it first touches after the initial assembly, or where
-    its edges stop facing each other. A rule that names `edges: cut` opts into the law it gives,
-    breakable: a `BreakableCut` warning says so."""
-    chosen = [rule for rule in contacts.rules if rule.edges == CUT]
-    if chosen:
-        names = ", ".join(sorted({f"'{rule.law}'" for rule in chosen}))
-        warnings.warn(
-            f"contacts.rules give the fictitious cuts (edges: {CUT}) the law {names}, which can slip or "
-            f"break: the factor of safety may be that of rock which is not there (without a rule on "
-            f"edges: {CUT} they are glued)",
-            BreakableCut,
-            stacklevel=3,
-        )
-        return law_names, law_codes, params, rule_groups, rule_dip, rule_law, rule_edges
-    default = law_names.index(contacts.default_law)
-    glued_codes = law_codes[default].copy()
-    glued_codes[[L.STRENGTH_LAW, L.AFTER_SLIP]] = [L.STRENGTH_CONSTANT, L.AFTER_SLIP_KEEP]
-    glued_codes[L.BREAKS_INTO] = default
-    glued = params[default].copy()
-    glued[[L.P_COH, L.P_TEN]] = math.inf
-    glued_rule = np.array([[label == CUT for label in label_names]])
-    return (
-        [*law_names, GLUED_CUT],
-        np.vstack([law_codes, glued_codes]),
-        np.vstack([params, glued]),
-        np.vstack([[[-1, -1]], rule_groups]),
-        np.vstack([[[0.0, math.pi / 2]], rule_dip]),
-        np.concatenate([[len(law_names)], rule_law]),
-        np.vstack([glued_rule, rule_edges]),
-    )
 
 
 def _gravity(scene: Scene) -> np.ndarray:

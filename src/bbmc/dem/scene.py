@@ -15,6 +15,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import ConfigError, Section
+from bbmc.dem.fos_settings import StrengthReduction
 from bbmc.dem.polygons import MAX_BLOCKS
 from bbmc.joint.inputs import FullJointInputs, ResidualAndScale, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
@@ -441,33 +442,6 @@ class Seismic(Section):
 
     horizontal_coefficient: Annotated[float, Field(ge=0, le=1)]  # k_h
     towards: Literal["-x", "+x"] = "-x"  # out of the slope (jointed_slope's face looks towards -x)
-
-
-class Judge(Section):
-    """`bbmc fos`: the blocks whose motion decides a trial (docs/scene-format.md, "Factor of safety"):
-    every block by default; else those named in `blocks` (block or group names) or whose centroid lies
-    in `region_m` (two opposite corners) at the start, or both; of them, those at least
-    `min_size_fraction` x the median block size (a sliver that falls does not fail the slope)."""
-
-    blocks: list[str] = Field(default_factory=list)
-    region_m: Annotated[list[Pair], Field(min_length=2, max_length=2)] | None = None
-    min_size_fraction: Annotated[float, Field(ge=0, lt=1)] = 0.0
-
-
-class StrengthReduction(Section):
-    """`bbmc fos`: how the factor of safety is found (docs/scene-format.md, "Factor of safety")."""
-
-    tolerance: Annotated[float, Field(gt=0, le=0.1)] = 0.01  # bisection ends when the bracket is this narrow
-    barton_bandis_reduction: Literal["envelope", "phi_b_jrc"] = "envelope"
-    unbalanced_force_ratio: Annotated[float, Field(gt=0, lt=1)] = 1e-5  # below it a trial is stable
-    failure_displacement_m: Positive | None = None  # [default: 5 % of the median block size]
-    response_multiple: Annotated[float, Field(ge=1)] = 10.0  # a trial's step budget x equilibrium steps
-    min_trial_steps: Annotated[int, Field(ge=100)] = 2000
-    check_every_steps: Annotated[int, Field(ge=1)] = 100
-    trend_window_multiple: Annotated[float, Field(gt=0)] = 1.0  # a trial's trend windows x equilibrium steps
-    largest_factor: Annotated[float, Field(gt=1)] = 20.0  # the bracket is sought in [1 / it, it]
-    support_form: Literal["active", "passive"] = "active"  # passive: the support's force along its joint / F
-    judge: Judge = Judge()  # the blocks whose motion decides a trial [default: every block]
 
 
 class Monitoring(Section):

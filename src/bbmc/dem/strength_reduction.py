@@ -57,8 +57,8 @@ from bbmc import laws, units
 from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
+from bbmc.dem.fos_settings import StrengthReduction
 from bbmc.dem.model import Model
-from bbmc.dem.scene import StrengthReduction
 from bbmc.dem.solver import SimulationError, State, advance, prepare
 from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
 

@@ -53,15 +53,14 @@ from bbmc.sweep import design, figures, statistics
 from bbmc.sweep.config import Config, Planar, Toppling
 from bbmc.sweep.models import (
     ERROR,
-    FAILED_RUN,
     FS,
-    INVALID,
     OUTCOME,
     PlanarModel,
     SceneModel,
     TopplingModel,
     get_path,
 )
+from bbmc.sweep.outcomes import COUNTS, IMPOSSIBLE, Outcomes, first_errors, one_line
 from bbmc.sweep.ranges import Range, key_range
 from bbmc.sweep.runner import Model, run_batches
 
@@ -83,48 +82,13 @@ UNIT_SUFFIXES = (
     "mm",
     "m",
 )
-FIRST_ERRORS = 3  # distinct errors shown when no sample gave a result
-COUNTS = ("samples", "valid_samples", "invalid_samples", "failed_runs", "impossible_samples")  # first rows
 UNCOUNTED_WARNING = 0.10  # a study with more than this fraction of samples without an FS says so
-IMPOSSIBLE = "impossible_input"  # the outcome of a sample not run (`bbmc.sweep.models` has the others)
 STORE_VERSION = "2"  # in the batches' folder name: raised when the same study's results change
 
 
 class NoValidSampleError(Exception):
     """No sample of the study gave a result (every run failed or had impossible inputs): the message
     gives the counts and the first distinct errors, a few lines (exit status 4)."""
-
-
-@dataclass(frozen=True)
-class Outcomes:
-    """Each sample's outcome, as masks over the samples: invalid (its own scene at fault), failed run,
-    impossible inputs (not run); a sample in none of them is valid."""
-
-    invalid: np.ndarray
-    failed: np.ndarray
-    impossible: np.ndarray
-
-    @classmethod
-    def of(cls, samples: pd.DataFrame) -> Outcomes:
-        outcome = samples[OUTCOME].to_numpy()
-        return cls(outcome == INVALID, outcome == FAILED_RUN, outcome == IMPOSSIBLE)
-
-    @property
-    def excluded(self) -> np.ndarray:
-        """The samples without an FS: not counted in P_f."""
-        return self.invalid | self.failed | self.impossible
-
-    def counts(self) -> dict[str, int]:
-        """summary.csv's first rows (`COUNTS`)."""
-        masks = (~self.excluded, self.invalid, self.failed, self.impossible)
-        return dict(zip(COUNTS, [len(self.invalid), *(int(mask.sum()) for mask in masks)], strict=True))
-
-    def text(self) -> str:
-        """The samples without an FS, by outcome ("10 invalid, 0 failed runs, 0 impossible inputs")."""
-        return (
-            f"{int(self.invalid.sum())} invalid, {int(self.failed.sum())} failed runs, "
-            f"{int(self.impossible.sum())} impossible inputs"
-        )
 
 
 @dataclass(frozen=True)
@@ -328,22 +292,6 @@ def run_summary(config: Config, samples: pd.DataFrame, outcomes: Outcomes) -> pd
     )
 
 
-def _one_line(text: str, width: int = 200) -> str:
-    line = " ".join(str(text).split())
-    return line if len(line) <= width else line[: width - 3] + "..."
-
-
-def first_errors(messages: pd.Series, count: int = FIRST_ERRORS) -> list[str]:
-    """The first `count` distinct errors in sample order, each with its first sample and how many
-    samples share it."""
-    shown = messages[messages != ""].map(_one_line)
-    counts = shown.value_counts(sort=False)
-    return [
-        f"sample {shown.index[shown == text][0]} (and {counts[text] - 1} more): {text}"
-        for text in list(dict.fromkeys(shown))[:count]
-    ]
-
-
 def _run_samples(
     model: Model,
     table: pd.DataFrame,
@@ -390,7 +338,7 @@ def fs_at_mean_inputs(
     )
     error = str(result[ERROR].fillna("").iloc[0])
     if error:
-        say(f"the FS at the mean inputs could not be found: {_one_line(error)}")
+        say(f"the FS at the mean inputs could not be found: {one_line(error)}")
         return math.nan
     fs = float(result[FS].iloc[0])
     say(f"FS at the mean inputs: {fs:.3f}")
