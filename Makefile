@@ -78,6 +78,7 @@ docs: $(DOCS_STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check src tests
 	$(BIN)/ruff format --check src tests
+	$(BIN)/lint-imports
 
 clean:
 	rm -rf results/fit results/mc results/audit results/shear results/shear-quick results/slope results/bench site

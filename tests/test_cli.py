@@ -10,7 +10,7 @@ import yaml
 from click.testing import CliRunner
 
 from bbmc.cli import main
-from bbmc.dem.scene import Scene
+from bbmc.scene.schema import Scene
 from bbmc.stages import audit, fit, joint, joints, mc, shear, slope, sweep
 from stage_runs import CONFIGS, PAPER, config_copy, delete_key, run_stage, set_key
 

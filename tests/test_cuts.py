@@ -14,8 +14,8 @@ from bbmc import api
 from bbmc.dem import layout as L
 from bbmc.dem.contact_rules import GLUED_CUT, BreakableCut
 from bbmc.dem.model import built_scene
-from bbmc.dem.scene import ROCK_MASS_SUB_CONTACTS
 from bbmc.dem.solver import prepare
+from bbmc.scene.schema import ROCK_MASS_SUB_CONTACTS
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "configs" / "scenes" / "benched_rock_mass.yaml"

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bbmc.cli import main
-from bbmc.dem import joint_state, polygons
+from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem.detection import candidate_pairs
 from bbmc.dem.solver import (
@@ -23,6 +23,7 @@ from bbmc.dem.solver import (
     load_scene,
     search_contacts,
 )
+from bbmc.geometry import polygons
 from dem_scenes import block_on_base, constant_joint, edited, run_scene, write_scene
 from stage_runs import ROOT
 

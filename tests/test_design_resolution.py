@@ -17,9 +17,9 @@ import yaml
 
 from bbmc import api
 from bbmc.dem.model import build_model
+from bbmc.fos.design import confirmed_value, design_support, fs_scatter
 from bbmc.slope import fos_cases as fc
 from bbmc.support.config import Design
-from bbmc.support.design import confirmed_value, design_support, fs_scatter
 
 CONFIGS = Path(__file__).parent.parent / "configs"
 BOLTED = CONFIGS / "scenes" / "bolted_planar.yaml"

@@ -46,8 +46,8 @@ def test_same_config_gives_bit_identical_csvs(tmp_path, stage):
 def _run_on(scene: dict, threads: int):
     """The scene run to its end on `threads` threads (the threaded cycle even on a small scene)."""
     from bbmc.dem.model import build_model
-    from bbmc.dem.scene import Scene
     from bbmc.dem.solver import simulate
+    from bbmc.scene.schema import Scene
 
     scene = {**scene, "solver": {**scene["solver"], "threads": threads}}
     return simulate(build_model(Scene.model_validate(scene, strict=False), Path(f"<{scene['name']}>"))).state

@@ -32,7 +32,7 @@ from click.testing import CliRunner
 from pydantic import BaseModel
 
 from bbmc.cli import main
-from bbmc.dem.scene import Scene
+from bbmc.scene.schema import Scene
 from bbmc.sweep.config import Config as Study
 
 ROOT = Path(__file__).resolve().parents[1]

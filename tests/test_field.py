@@ -30,14 +30,14 @@ from scipy import integrate, stats
 from bbmc.field import block
 from bbmc.field import distributions as dist
 from bbmc.field.analysis import fit_set
-from bbmc.field.orientation import (
+from bbmc.field.survey import read_survey
+from bbmc.geometry.orientation import (
     dip_and_direction,
     line_direction,
     poles,
     section_trace,
     terzaghi_weights,
 )
-from bbmc.field.survey import read_survey
 from bbmc.rockmass import RockMassConfig, generate
 from stage_runs import ROOT, config_copy, refused, run_stage
 

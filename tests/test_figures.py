@@ -21,7 +21,10 @@ from matplotlib.text import Annotation, Text
 from bbmc import api
 from bbmc.config import load_config, read_yaml
 from bbmc.dem import layout as L
-from bbmc.dem.figures import (
+from bbmc.dem.model import Model, build_model
+from bbmc.dem.solver import initial_state
+from bbmc.fos.strength_reduction import StrengthReductionResult, Trial, factor_of_safety
+from bbmc.outputs.figures import (
     WATER_COLOUR,
     bracketing_figure,
     colour_top,
@@ -30,10 +33,7 @@ from bbmc.dem.figures import (
     mechanism_figure,
     scene_figure,
 )
-from bbmc.dem.model import Model, build_model
-from bbmc.dem.solver import initial_state
-from bbmc.dem.strength_reduction import StrengthReductionResult, Trial, factor_of_safety
-from bbmc.dem.vtk import read_vtu
+from bbmc.outputs.vtk import read_vtu
 from bbmc.stages import fit, joint, mc, slope, sweep
 from stage_runs import config_copy
 

@@ -1,4 +1,4 @@
-"""Strength reduction (`bbmc.dem.strength_reduction`, `bbmc fos`) against closed forms and limit
+"""Strength reduction (`bbmc.fos.strength_reduction`, `bbmc fos`) against closed forms and limit
 equilibrium. Each tolerance is stated where it is used; the measured errors are in
 docs/verification.md ("Factor of safety by strength reduction")."""
 
@@ -15,9 +15,9 @@ from click.testing import CliRunner
 from bbmc.cli import main
 from bbmc.config import load_config
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
 from bbmc.dem.solver import simulate
-from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.fos.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.scene.schema import Scene
 from bbmc.slope import fos_cases as fc
 from bbmc.slope import safety
 from bbmc.slope.config import Config as SlopeConfig

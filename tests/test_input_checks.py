@@ -20,9 +20,9 @@ from bbmc import api, plausibility
 from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.model import build_model
-from bbmc.dem.polygons import joint_set_trace
-from bbmc.dem.scene import Scene
+from bbmc.geometry.polygons import joint_set_trace
 from bbmc.plausibility import ImplausibleValue
+from bbmc.scene.schema import Scene
 from bbmc.stages import audit, bench, fit, joint, joints, mc, shear, slope
 from bbmc.sweep.config import Config as Study
 from stage_runs import config_copy

@@ -22,7 +22,7 @@ import pytest
 import yaml
 
 from bbmc.dem import pace, solver
-from bbmc.dem.strength_reduction import factor_of_safety
+from bbmc.fos.strength_reduction import factor_of_safety
 from bbmc.io import StageResult, write_stage
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -16,8 +16,8 @@ from bbmc import laws
 from bbmc.bench.mobilized_cost import shear_box
 from bbmc.dem import layout as L
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
 from bbmc.dem.solver import advance, prepare, simulate
+from bbmc.scene.schema import Scene
 
 DEG = math.pi / 180.0
 JRC, JCS, PHI_B, PHI_R, LENGTH = 10.0, 100e6, 30.0 * DEG, 25.0 * DEG, 0.1

@@ -17,7 +17,7 @@ from scipy import stats
 
 from bbmc.bench.rockmass_cost import rockmass_cost
 from bbmc.config import ConfigError
-from bbmc.dem.polygons import polygon_area, shape_fault, shape_faults
+from bbmc.geometry.polygons import polygon_area, shape_fault, shape_faults
 from bbmc.rockmass import RockMassConfig, cut, from_file, generate, profile
 from bbmc.rockmass.distributions import length
 from bbmc.rockmass.figure import rock_mass_figure

@@ -11,7 +11,7 @@ import pytest
 
 from bbmc.bench import scaling
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
+from bbmc.scene.schema import Scene
 from stage_runs import CONFIGS
 
 SLOPE = str(CONFIGS / "slope.yaml")

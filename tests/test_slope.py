@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from bbmc.dem import polygons
+from bbmc.geometry import polygons
 from bbmc.slope import limit_equilibrium as le
 from bbmc.slope import measures as me
 from stage_runs import config_copy, run_stage, stage_folder

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bbmc.cli import main
-from bbmc.dem import polygons
+from bbmc.geometry import polygons
 from dem_scenes import block_on_base, constant_joint, edited, write_scene
 
 STAR = [[math.cos(a), math.sin(a)] for a in np.radians(90 + 144 * np.arange(5))]

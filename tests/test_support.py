@@ -24,11 +24,11 @@ from bbmc import api
 from bbmc.dem import layout as L
 from bbmc.dem.model import built_scene
 from bbmc.dem.solver import load_scene
-from bbmc.dem.strength_reduction import factor_of_safety
 from bbmc.dem.support import support_forces
+from bbmc.fos.design import design_support, planar_limit_equilibrium, support_force_on, varied_model
+from bbmc.fos.strength_reduction import factor_of_safety
 from bbmc.slope import toppling as tp
 from bbmc.slope import toppling_scene as ts
-from bbmc.support.design import design_support, planar_limit_equilibrium, support_force_on, varied_model
 from stage_runs import CONFIGS, refused, run_stage
 
 DENSITY, G = 2600.0, 9.81
@@ -477,7 +477,7 @@ def test_the_figures_draw_the_bolts_coloured_by_their_load():
     by axial load, with its colour bar."""
     from matplotlib.collections import LineCollection
 
-    from bbmc.dem.figures import mechanism_figure, scene_figure
+    from bbmc.outputs.figures import mechanism_figure, scene_figure
 
     model = load_scene(CONFIGS / "scenes" / "bolted_planar.yaml")
     result = factor_of_safety(model)

@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from bbmc.dem.scene import Scene
+from bbmc.scene.schema import Scene
 from bbmc.sweep import design, figures, ranges
 from bbmc.sweep import statistics as sweep_stats
 from bbmc.sweep.config import Planar

@@ -21,7 +21,7 @@ from bbmc.dem import layout as L
 from bbmc.dem import motion
 from bbmc.dem.model import build_model
 from bbmc.dem.solver import initial_state
-from bbmc.dem.vtk import block_mesh, read_vtu
+from bbmc.outputs.vtk import block_mesh, read_vtu
 
 ROOT = Path(__file__).resolve().parents[1]
 INCLINE = ROOT / "configs" / "scenes" / "incline.yaml"

@@ -19,8 +19,8 @@ from scipy.optimize import brentq
 from scipy.spatial import ConvexHull, QhullError
 
 from bbmc.dem import layout as L
-from bbmc.dem.polygons import mass_properties, polygon_area, rectangle, rotated, shape_fault
 from bbmc.dem.water import add_water_loads, edge_water_load, water_pressure
+from bbmc.geometry.polygons import mass_properties, polygon_area, rectangle, rotated, shape_fault
 
 GAMMA = 9810.0  # unit weight of water [N/m^3]
 RTOL = 1e-9

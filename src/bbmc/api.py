@@ -19,10 +19,10 @@ from pathlib import Path
 
 from bbmc.config import ConfigError, load_config, validate
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
 from bbmc.dem.solver import RunResult, SimulationError, simulate
-from bbmc.dem.strength_reduction import StrengthReductionResult
-from bbmc.dem.strength_reduction import factor_of_safety as _factor_of_safety
+from bbmc.fos.strength_reduction import StrengthReductionResult
+from bbmc.fos.strength_reduction import factor_of_safety as _factor_of_safety
+from bbmc.scene.schema import Scene
 
 __all__ = ["ConfigError", "Scene", "SimulationError", "factor_of_safety", "load_scene", "run"]
 

@@ -20,9 +20,9 @@ from bbmc import __version__, kernel_cache
 from bbmc import warmup as warmup_module
 from bbmc.command_outcome import report_written, reported, scene_at_fault
 from bbmc.config import ConfigError, load_config
-from bbmc.dem.scene import Scene
 from bbmc.io import provenance, write_stage
 from bbmc.progress_bar import ProgressBar
+from bbmc.scene.schema import Scene
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage

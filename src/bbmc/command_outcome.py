@@ -13,8 +13,8 @@ import click
 
 from bbmc.config import ConfigError
 from bbmc.dem.solver import SimulationError
+from bbmc.exit_status import BAD_INPUT, INTERRUPTED, NO_SAMPLE, UNSTABLE, WRITE_FAILED
 from bbmc.plausibility import ImplausibleValue
-from bbmc.program import INTERRUPTED
 from bbmc.stages.sweep import NoValidSampleError
 
 
@@ -53,19 +53,19 @@ def reported(name: str, strict: bool = False) -> Iterator[None]:
         sys.exit(INTERRUPTED)
     except ImplausibleValue as error:
         click.echo(f"bbmc {name}: error: {error} [--strict]", err=True)
-        sys.exit(2)
+        sys.exit(BAD_INPUT)
     except ConfigError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(2)
+        sys.exit(BAD_INPUT)
     except NoValidSampleError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(4)
+        sys.exit(NO_SAMPLE)
     except SimulationError as error:
         click.echo(f"bbmc {name}: error: {error}", err=True)
-        sys.exit(2 if error.bad_input else 3)
+        sys.exit(BAD_INPUT if error.bad_input else UNSTABLE)
     except OSError as error:
         click.echo(f"bbmc {name}: error: cannot write results: {error}", err=True)
-        sys.exit(1)
+        sys.exit(WRITE_FAILED)
     for text in deferred:
         click.echo(f"bbmc {name}: warning: {text}", err=True)
 

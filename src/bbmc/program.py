@@ -11,7 +11,7 @@ from __future__ import annotations
 import signal
 import sys
 
-INTERRUPTED = 130  # 128 + SIGINT: the shell's status for a program stopped by Ctrl-C
+from bbmc.exit_status import INTERRUPTED
 
 
 def run() -> None:

@@ -26,8 +26,8 @@ import pandas as pd
 from bbmc.bench.scaling import scaled_slope
 from bbmc.dem import layout as L
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
 from bbmc.dem.solver import prepare
+from bbmc.scene.schema import Scene
 
 FLOAT_BYTES = 8
 TRIAD_BYTES_PER_ELEMENT = 3 * FLOAT_BYTES  # read b, read c, write a (STREAM's count; no write-allocate)

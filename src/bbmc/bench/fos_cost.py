@@ -19,8 +19,8 @@ from pathlib import Path
 import pandas as pd
 
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
-from bbmc.dem.strength_reduction import factor_of_safety
+from bbmc.fos.strength_reduction import factor_of_safety
+from bbmc.scene.schema import Scene
 from bbmc.slope import fos_cases, safety
 from bbmc.slope import model as sm
 from bbmc.slope.config import load_paper_slope

@@ -24,8 +24,8 @@ from bbmc import laws, units
 from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
-from bbmc.dem.scene import Scene
 from bbmc.dem.solver import simulate
+from bbmc.scene.schema import Scene
 
 JRC, JCS, PHI_R, LENGTH, SIGMA_N, SPEED = 10.0, 100e6, 25.0 * units.deg, 0.1, 1e6, 0.02
 MOBILIZED = {

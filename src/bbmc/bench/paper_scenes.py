@@ -25,8 +25,8 @@ from bbmc import units
 from bbmc.config import load_config
 from bbmc.dem import layout as L
 from bbmc.dem.model import EVERY_ECONOMY, Economy, Model, build_model
-from bbmc.dem.scene import Scene, Solver, TimeStep
 from bbmc.dem.solver import SimulationError, prepare, simulate
+from bbmc.scene.schema import Scene, Solver, TimeStep
 from bbmc.shear import box
 from bbmc.shear import config as shear_config
 from bbmc.shear.bench import Bench

@@ -8,9 +8,9 @@ import time
 from pathlib import Path
 
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import Scene
 from bbmc.dem.solver import advance, prepare
 from bbmc.rockmass import RockMassConfig, generate
+from bbmc.scene.schema import Scene
 
 SPACINGS_M = {"bedding": 0.8, "cross": 0.96, "steep": 3.2}  # about 10,000 blocks
 

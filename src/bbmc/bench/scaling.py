@@ -35,10 +35,10 @@ import numpy as np
 import pandas as pd
 
 from bbmc.dem import layout as L
-from bbmc.dem import polygons
 from bbmc.dem.model import build_model
-from bbmc.dem.scene import JointedSlope, Scene
 from bbmc.dem.solver import advance, prepare
+from bbmc.geometry import polygons
+from bbmc.scene.schema import JointedSlope, Scene
 from bbmc.slope import model as sm
 from bbmc.slope.config import load_paper_slope
 

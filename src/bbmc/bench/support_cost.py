@@ -1,7 +1,7 @@
 """What support costs (support_cost.csv): where a scene has none, this engine's time per step against
 the last commit before support elements (`bbmc.bench.engine_cost`, alternating fresh processes, on
 the scaling slope and the shear box); and the design search of a scene's `design:` section
-(`bbmc.support.design`: limit equilibrium, then the engine's confirmation), its wall time and trials.
+(`bbmc.fos.design`: limit equilibrium, then the engine's confirmation), its wall time and trials.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import pandas as pd
 
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.dem.solver import load_scene
-from bbmc.support.design import design_support
+from bbmc.fos.design import design_support
 
 
 def design_search_row(scene: Path, repeats: int) -> dict[str, object]:

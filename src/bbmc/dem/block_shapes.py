@@ -10,17 +10,18 @@ from pathlib import Path
 import numpy as np
 
 from bbmc import units
-from bbmc.dem import detection, polygons
+from bbmc.dem import detection
 from bbmc.dem import layout as L
-from bbmc.dem.scene import (
+from bbmc.geometry import polygons
+from bbmc.rockmass.generate import GeometryError
+from bbmc.rockmass.generate import generate as generate_rock_mass
+from bbmc.rockmass.generate import possible_labels as rock_mass_labels
+from bbmc.scene.schema import (
     BlockEntry,
     JointedSlope,
     Scene,
     scene_error,
 )
-from bbmc.rockmass.generate import GeometryError
-from bbmc.rockmass.generate import generate as generate_rock_mass
-from bbmc.rockmass.generate import possible_labels as rock_mass_labels
 
 SHAPE_KEYS = ("polygon_m", "rectangle_m", "brick_wall", "jointed_slope", "rock_mass")
 

@@ -14,7 +14,7 @@ import pandas as pd
 
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model
-from bbmc.dem.solver import State
+from bbmc.dem.state import State
 
 
 def failure_mode(slipped: np.ndarray) -> np.ndarray:

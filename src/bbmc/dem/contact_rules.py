@@ -13,8 +13,8 @@ import numpy as np
 from bbmc.config import closest
 from bbmc.dem import layout as L
 from bbmc.dem.block_shapes import possible_labels
-from bbmc.dem.scene import Contacts, Scene, scene_error
 from bbmc.rockmass.cut import CUT
+from bbmc.scene.schema import Contacts, Scene, scene_error
 
 GLUED_CUT = "cut (glued)"  # the joint type of the cuts without a rule of their own (`cuts_glued_or_warned`)
 

@@ -18,7 +18,6 @@ corner and slid onto each other's faces) was never bonded: it is born the joint 
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,9 +25,7 @@ from bbmc.dem import contact_forces, joint_state, kernels
 from bbmc.dem import layout as L
 from bbmc.dem.detection import CORNER_REPLACED, candidate_pairs, facing_edges
 from bbmc.dem.model import Model
-
-if TYPE_CHECKING:
-    from bbmc.dem.solver import State
+from bbmc.dem.state import State
 
 
 def _joint_types(model: Model, found: np.ndarray, normal: np.ndarray) -> np.ndarray:

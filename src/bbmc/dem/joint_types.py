@@ -9,7 +9,9 @@ import numpy as np
 
 from bbmc import laws, units
 from bbmc.dem import layout as L
-from bbmc.dem.scene import (
+from bbmc.joint.derived import FullJoint, full_joint
+from bbmc.joint.model import SIGMA_REF
+from bbmc.scene.schema import (
     BartonBandisLaw,
     BartonBandisStrength,
     ConstantLaw,
@@ -17,8 +19,6 @@ from bbmc.dem.scene import (
     Scene,
     scene_error,
 )
-from bbmc.joint.derived import FullJoint, full_joint
-from bbmc.joint.model import SIGMA_REF
 
 SHEAR_CODES = {
     "constant": L.SHEAR_CONSTANT,

@@ -16,7 +16,6 @@ import numpy as np
 from bbmc import units
 from bbmc.config import validate
 from bbmc.dem import layout as L
-from bbmc.dem import polygons
 from bbmc.dem.block_shapes import (
     SHAPE_KEYS,
     check_inertia,
@@ -28,15 +27,16 @@ from bbmc.dem.block_shapes import (
 )
 from bbmc.dem.contact_rules import check_rule_edges, cuts_glued_or_warned
 from bbmc.dem.joint_types import joint_types
-from bbmc.dem.scene import (
+from bbmc.dem.support_elements import SupportElements, support_elements
+from bbmc.geometry import polygons
+from bbmc.rockmass.cut import CUT
+from bbmc.rockmass.profile import crack_water_table, profile_water_table
+from bbmc.scene.schema import (
     BlockEntry,
     Monitor,
     Scene,
     scene_error,
 )
-from bbmc.rockmass.cut import CUT
-from bbmc.rockmass.profile import crack_water_table, profile_water_table
-from bbmc.support.elements import SupportElements, support_elements
 
 EDGE_DIRECTIONS = {"up": (0.0, 1.0), "down": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 

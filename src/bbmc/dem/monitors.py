@@ -18,9 +18,9 @@ from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.contact_geometry import contact_frame
 from bbmc.dem.model import Model, MonitorSpec
-from bbmc.dem.polygons import carried_points
-from bbmc.dem.scene import JOINT_QUANTITIES
-from bbmc.support.report import largest_loads
+from bbmc.dem.support_report import largest_loads
+from bbmc.geometry.polygons import carried_points
+from bbmc.scene.schema import JOINT_QUANTITIES
 
 UNITS = {
     "ux": ("mm", 1 / units.mm),

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -25,10 +25,10 @@ from bbmc.dem import monitors as mon
 from bbmc.dem.contact_search import search_contacts
 from bbmc.dem.detection import candidate_pairs, vertex_penetration
 from bbmc.dem.model import Model, build_model
-from bbmc.dem.pace import Pace
-from bbmc.dem.scene import Scene
+from bbmc.dem.state import State
 from bbmc.dem.stopping import STOP_REASONS, Watch, far_from_balance, moved_beyond_stop, stop_reason, unsettled
 from bbmc.kernel_cache import announce_engine_compile
+from bbmc.scene.schema import Scene
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
 SLACK_SAFETY = 0.7  # a run with support warns above it: measured, an anchor that goes slack under a
@@ -44,41 +44,6 @@ class SimulationError(Exception):
     def __init__(self, message: str, bad_input: bool = False) -> None:
         super().__init__(message)
         self.bad_input = bad_input
-
-
-@dataclass
-class State:
-    """The engine's mutable arrays (see `layout` for their columns)."""
-
-    clock: np.ndarray
-    blocks: np.ndarray
-    dof: np.ndarray
-    world: np.ndarray
-    contacts: np.ndarray
-    subs: np.ndarray
-    law_state: np.ndarray  # the sub-contacts' law state (`layout.LAW_STATE_COLUMNS`), rows as `subs`
-    n_sub: int
-    immobile: np.ndarray  # blocks held still for the whole run (`Model.immobile`)
-    moving: np.ndarray  # blocks whose motion the cycle computes (all, unless held ones are skipped)
-    dry_edges: np.ndarray  # edges of intact rock that joint water does not reach (until it breaks)
-    support: np.ndarray  # the support elements' rows (`layout`'s support columns), forces and state
-    largest_dt: float = math.inf  # the time step's upper limit (`largest_time_step`), set once
-    threads: int = 1  # numba threads of the cycle (`kernels.thread_count`)
-    # each contact's force and moments, and each block's contacts (`kernels.block_contacts_of`): the
-    # threaded cycle's assembly, set at each contact search when threaded
-    per_contact: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
-    block_start: np.ndarray = field(default_factory=lambda: np.zeros(1, dtype=np.int64))
-    block_contacts: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    searches: int = 0
-    dt_range: list[float] = field(default_factory=lambda: [math.inf, 0.0])
-    largest_overlap: float = 0.0
-    # the sizes of kernel calls (shared by copies of a state: they measure the machine, not the state)
-    cycle_pace: Pace = field(default_factory=Pace)
-    search_pace: Pace = field(default_factory=Pace)
-
-    @property
-    def step(self) -> int:
-        return int(self.clock[L.STEP])
 
 
 @dataclass

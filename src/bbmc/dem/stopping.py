@@ -5,17 +5,14 @@ Read at record steps by `bbmc.dem.solver.simulate`; plain numpy."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
 from bbmc.dem.model import Model
+from bbmc.dem.state import State
 from bbmc.dem.verdict import Trend
-
-if TYPE_CHECKING:
-    from bbmc.dem.solver import State
 
 STOP_REASONS = ("equilibrium", "displacement", "time", "decaying", "creep", "projected")
 DEFAULT_UNBALANCE_LIMIT = 1e-5  # the trend's balance limit when the stop gives no unbalanced_force_ratio

@@ -1,5 +1,5 @@
 """One mapped joint set's statistics from a scanline: orientation, spacing and trace length, each
-corrected for the way a scanline samples (see `bbmc.field.orientation` and
+corrected for the way a scanline samples (see `bbmc.geometry.orientation` and
 `bbmc.field.distributions` for the corrections and their sources).
 
 Spacing. The distances between consecutive joints of a set along the line are apparent spacings. A set
@@ -18,14 +18,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from bbmc.field import distributions as dist
-from bbmc.field.orientation import (
+from bbmc.field.survey import SetSurvey
+from bbmc.geometry.orientation import (
     SetOrientation,
     dip_orientation,
     fisher_orientation,
     poles,
     terzaghi_weights,
 )
-from bbmc.field.survey import SetSurvey
 
 
 @dataclass(frozen=True)

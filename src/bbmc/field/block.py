@@ -1,7 +1,7 @@
 """The `joint_sets:` block of a scene's `rock_mass` (docs/scene-format.md) from fitted sets.
 
 Each set is written in its 3D form: the Fisher mean plane and K (from the dips alone: K = 1/sigma^2,
-`bbmc.field.orientation`), the section's azimuth, the spacing, the trace length and the persistence.
+`bbmc.geometry.orientation`), the section's azimuth, the spacing, the trace length and the persistence.
 
 Spacing and persistence. In a scene a set is a family of lines, `spacing_m` apart, each line joint over
 the share k (the persistence) of its length and intact rock (bridges) over the rest. A line normal to
@@ -25,7 +25,7 @@ import numpy as np
 
 from bbmc import units
 from bbmc.field.distributions import Candidate
-from bbmc.field.orientation import SetOrientation
+from bbmc.geometry.orientation import SetOrientation
 
 
 class PersistenceError(ValueError):

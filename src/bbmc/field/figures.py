@@ -10,7 +10,7 @@ from matplotlib.figure import Figure
 from bbmc import units
 from bbmc.field import distributions as dist
 from bbmc.field.analysis import SetFit
-from bbmc.field.orientation import fisher_deviation_pdf
+from bbmc.geometry.orientation import fisher_deviation_pdf
 from bbmc.plots import COLOURS
 
 STYLE = {"exponential": "tab:blue", "lognormal": "tab:orange", "gamma": "tab:green"}

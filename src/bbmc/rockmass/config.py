@@ -13,7 +13,7 @@ import numpy as np
 from pydantic import BeforeValidator, Field, model_validator
 
 from bbmc.config import Section
-from bbmc.dem.polygons import joint_set_trace
+from bbmc.geometry.polygons import joint_set_trace
 from bbmc.rockmass import profile
 
 Positive = Annotated[float, Field(gt=0)]

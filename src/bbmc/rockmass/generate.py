@@ -25,9 +25,9 @@ import numpy as np
 import pandas as pd
 
 from bbmc.config import ConfigError, load_config
+from bbmc.geometry.orientation import SectionTraces
 from bbmc.rockmass import cut, profile
 from bbmc.rockmass.config import CRACK, JointSet, RockMassConfig
-from bbmc.rockmass.sets import SectionTraces
 from bbmc.rockmass.traces import SetGeometry, lay_traces, set_lines
 
 TOLERANCE = 1e-9  # of the body's size: a vertex this close to a line lies on it

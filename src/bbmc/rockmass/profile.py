@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from bbmc.dem.polygons import _without_repeats
+from bbmc.geometry.polygons import _without_repeats
 
 
 def bench_surface(height_m: float, face_angle_deg: float, berm_width_m: float, count: int) -> np.ndarray:

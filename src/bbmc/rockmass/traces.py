@@ -21,10 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bbmc.geometry.orientation import SectionTraces
 from bbmc.rockmass import config as c
 from bbmc.rockmass import distributions
 from bbmc.rockmass.cut import Line
-from bbmc.rockmass.sets import SectionTraces, mean_trace, sample_traces
+from bbmc.rockmass.sets import mean_trace, sample_traces
 
 BURN_IN_CYCLES = 10.0
 

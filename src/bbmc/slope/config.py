@@ -11,8 +11,8 @@ from pydantic import Field, model_validator
 
 from bbmc import paper_tables
 from bbmc.config import InputFile, Section, load_config
-from bbmc.dem.fos_settings import StrengthReduction
-from bbmc.dem.scene import JointedSlope
+from bbmc.scene.fos_settings import StrengthReduction
+from bbmc.scene.schema import JointedSlope
 from bbmc.slope import model as sm
 
 Dip = Annotated[float, Field(gt=0, lt=90)]  # of the bedding [deg]

@@ -14,9 +14,9 @@ from matplotlib.figure import Figure
 
 from bbmc import plots  # noqa: F401  (selects the Agg backend before any figure is drawn)
 from bbmc.dem import layout as L
-from bbmc.dem import polygons
 from bbmc.dem.model import Model
-from bbmc.dem.scene import JointedSlope
+from bbmc.geometry import polygons
+from bbmc.scene.schema import JointedSlope
 
 MODEL_STYLE = {
     "constant": ("tab:red", "constant M-C (Table 4)"),

@@ -23,9 +23,9 @@ from pydantic import Field
 from bbmc import units
 from bbmc.config import Section
 from bbmc.dem import layout as L
-from bbmc.dem import polygons
 from bbmc.dem.model import Model
-from bbmc.dem.scene import JointedSlope
+from bbmc.geometry import polygons
+from bbmc.scene.schema import JointedSlope
 
 JointModel = Literal["constant", "barton_bandis"]
 JOINT_MODELS: tuple[JointModel, ...] = ("constant", "barton_bandis")

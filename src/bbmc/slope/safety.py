@@ -1,5 +1,5 @@
 """The factor of safety of the paper's slope, which the paper never gives: by strength reduction on
-the engine (`bbmc.dem.strength_reduction`) for both joint models, and by Hoek & Bray's planar limit
+the engine (`bbmc.fos.strength_reduction`) for both joint models, and by Hoek & Bray's planar limit
 equilibrium (`bbmc.slope.planar`) for sliding on the bedding joint through the toe.
 
 The limit equilibrium's block is everything above that bedding joint, from the toe to where it meets
@@ -20,10 +20,10 @@ import pandas as pd
 from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, built_scene
-from bbmc.dem.scene import name_part
 from bbmc.dem.solver import simulate
-from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.fos.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.joint.derived import full_joint
+from bbmc.scene.schema import name_part
 from bbmc.slope import model as sm
 from bbmc.slope import planar
 from bbmc.slope.config import Config, Residual

@@ -50,7 +50,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from bbmc.dem.polygons import MAX_BLOCKS
+from bbmc.geometry.polygons import MAX_BLOCKS
 
 #: Mode codes of the internal march and the strings the tables carry.
 STABLE, TOPPLES, SLIDES = 0, 1, 2

@@ -1,5 +1,5 @@
 """`bbmc fos`: the factor of safety of any block scene by shear-strength reduction
-(`bbmc.dem.strength_reduction`); the scene format plus its optional `fos:` section.
+(`bbmc.fos.strength_reduction`); the scene format plus its optional `fos:` section.
 
 Writes into <results>/fos/<scene name>/: fos.csv (every trial: F, verdict, why, steps, largest
 displacement, unbalanced-force ratio, wall time), summary.csv (`quantity,value,unit`, with the row
@@ -9,7 +9,7 @@ unstable trial), bracketing.png (the trials' F in order) and provenance.json. Wi
 section: the FS is found with the support and again without it (summary rows factor_of_safety and
 factor_of_safety_without_support), and support.csv gives each element's load at the end of the
 highest stable trial. With a `design:` section: design.csv, every trial of the search for the support
-that reaches the target FS (`bbmc.support.design`), and its result in summary.csv.
+that reaches the target FS (`bbmc.fos.design`), and its result in summary.csv.
 """
 
 from __future__ import annotations
@@ -25,15 +25,15 @@ import pandas as pd
 
 from bbmc import units
 from bbmc.dem import layout as L
-from bbmc.dem.figures import bracketing_figure, mechanism_figure
 from bbmc.dem.model import Model, build_model
-from bbmc.dem.scene import Scene
-from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.dem.support_elements import SupportElements
+from bbmc.dem.support_report import largest_loads, support_table
 from bbmc.dem.verdict import STABLE
+from bbmc.fos.design import DesignResult, design_support
+from bbmc.fos.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.io import StageResult
-from bbmc.support.design import DesignResult, design_support
-from bbmc.support.elements import SupportElements
-from bbmc.support.report import largest_loads, support_table
+from bbmc.outputs.figures import bracketing_figure, mechanism_figure
+from bbmc.scene.schema import Scene
 
 NAME = "fos"
 Config = Scene

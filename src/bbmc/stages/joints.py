@@ -20,8 +20,8 @@ from bbmc.config import ConfigError, InputFile, Section
 from bbmc.field import block, figures
 from bbmc.field import distributions as dist
 from bbmc.field.analysis import SetFit, fit_set
-from bbmc.field.orientation import goodness, line_direction, section_trace
 from bbmc.field.survey import SetSurvey, read_survey, set_names
+from bbmc.geometry.orientation import goodness, line_direction, section_trace
 from bbmc.io import StageResult
 
 NAME = "joints"

@@ -5,7 +5,7 @@ blocks.csv (final state of every block), contacts.csv (final state of every sub-
 summary.csv (steps, time, time-step range, contact searches, interpenetration, warnings),
 scene.png (bolts coloured by their load), history.png and provenance.json; for a scene with support,
 support.csv (each anchor and each grouted bolt's crossing of a joint: its force, capacity and state;
-`bbmc.support.report`); for a scene with rock bridges, bridges.csv and bridges.png
+`bbmc.dem.support_report`); for a scene with rock bridges, bridges.csv and bridges.png
 (`bbmc.dem.bridges`); with --vtk, vtk/ (blocks and sub-contacts of every record
 as VTU files and their PVD collections, for ParaView).
 """
@@ -18,13 +18,14 @@ from pathlib import Path
 import pandas as pd
 
 from bbmc.dem.bridges import BridgeLog
-from bbmc.dem.figures import bridges_figure, history_figure, scene_figure
 from bbmc.dem.model import Model, build_model
-from bbmc.dem.scene import Scene
-from bbmc.dem.solver import RunResult, State, initial_state, simulate
-from bbmc.dem.vtk import Series
+from bbmc.dem.solver import RunResult, initial_state, simulate
+from bbmc.dem.state import State
+from bbmc.dem.support_report import support_table
 from bbmc.io import StageResult
-from bbmc.support.report import support_table
+from bbmc.outputs.figures import bridges_figure, history_figure, scene_figure
+from bbmc.outputs.vtk import Series
+from bbmc.scene.schema import Scene
 
 NAME = "run"
 Config = Scene
@@ -39,7 +40,7 @@ def run(
     scene: Scene, config_path: Path, progress: Callable[[int], None] | None = None, vtk: bool = False
 ) -> tuple[StageResult, RunResult]:
     """Build the scene (checking every reference), run it, and gather its tables and figures; with
-    `vtk`, also the ParaView series of every record (`bbmc.dem.vtk`)."""
+    `vtk`, also the ParaView series of every record (`bbmc.outputs.vtk`)."""
     model: Model = build_model(scene, config_path)
     initial = initial_state(model).world.copy()
     series = Series(model) if vtk else None

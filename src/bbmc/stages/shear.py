@@ -27,9 +27,9 @@ import pandas as pd
 
 from bbmc import paper_tables, units
 from bbmc.comparison import TOLERANCES, judge
-from bbmc.dem.scene import name_part
 from bbmc.io import StageResult
 from bbmc.joint import model as jm
+from bbmc.scene.schema import name_part
 from bbmc.shear import box
 from bbmc.shear import calibration as cal
 from bbmc.shear.bench import Bench

@@ -26,12 +26,12 @@ import pandas as pd
 
 from bbmc.config import ConfigError
 from bbmc.dem import layout as L
-from bbmc.dem.figures import mechanism_figure
 from bbmc.dem.model import Model, built_scene
-from bbmc.dem.scene import JointedSlope
 from bbmc.dem.solver import SimulationError, simulate
-from bbmc.dem.vtk import Series
 from bbmc.io import StageResult
+from bbmc.outputs.figures import mechanism_figure
+from bbmc.outputs.vtk import Series
+from bbmc.scene.schema import JointedSlope
 from bbmc.slope import figures, safety
 from bbmc.slope import limit_equilibrium as le
 from bbmc.slope import measures as me

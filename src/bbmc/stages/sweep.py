@@ -45,8 +45,8 @@ from bbmc import plausibility
 from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.model import build_model
 from bbmc.dem.monitors import column_name
-from bbmc.dem.scene import Scene
 from bbmc.io import StageResult
+from bbmc.scene.schema import Scene
 from bbmc.slope import safety
 from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design, figures, statistics

@@ -1,6 +1,6 @@
 """The `support:` and `design:` sections of a scene (docs/how-to/support.md), validated whole.
 
-Units are in the key names (m, mm, mm^2, kN, kN/m, GPa); `bbmc.support.elements` converts to SI. A
+Units are in the key names (m, mm, mm^2, kN, kN/m, GPa); `bbmc.dem.support_elements` converts to SI. A
 bolt's forces are per bolt; its out-of-plane `spacing_m` turns them into forces per metre run, the
 plane-strain section's unit.
 """

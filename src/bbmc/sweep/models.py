@@ -9,7 +9,7 @@ output, and the others go on; its `outcome` says why it has no output:
 * `failed_run`: any other error (an engine fault, a limit-equilibrium model's impossible geometry).
 
 A sample with an output is `valid`; one whose FS is below 1 is a failure like any other (a scene that
-cannot stand under its own strengths gets FS < 1 from its elastic start, `bbmc.dem.strength_reduction`).
+cannot stand under its own strengths gets FS < 1 from its elastic start, `bbmc.fos.strength_reduction`).
 
 Models are plain frozen dataclasses holding only the base's data, so they pickle to worker processes
 and dask workers; numba's compiled kernels come from its on-disk cache in each process.
@@ -28,7 +28,7 @@ from bbmc import units
 from bbmc.config import ConfigError
 from bbmc.dem.model import built_scene
 from bbmc.dem.solver import SimulationError, simulate
-from bbmc.dem.strength_reduction import factor_of_safety
+from bbmc.fos.strength_reduction import factor_of_safety
 from bbmc.slope import planar, toppling
 
 FS = "factor_of_safety"

@@ -24,9 +24,9 @@ from matplotlib.patheffects import withStroke
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 from bbmc.dem.monitors import UNITS
-from bbmc.dem.strength_reduction import StrengthReductionResult
+from bbmc.dem.support_report import per_bolt_kN, support_lines
+from bbmc.fos.strength_reduction import StrengthReductionResult
 from bbmc.rockmass.figure import edge_style, set_colours
-from bbmc.support.report import per_bolt_kN, support_lines
 
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
 

@@ -15,11 +15,11 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import ConfigError, Section
-from bbmc.dem.fos_settings import StrengthReduction
-from bbmc.dem.polygons import MAX_BLOCKS
+from bbmc.geometry.polygons import MAX_BLOCKS
 from bbmc.joint.inputs import FullJointInputs, ResidualAndScale, wall_not_stronger_than_rock
 from bbmc.joint.model import BartonBandisJoint
 from bbmc.rockmass.config import RockMassConfig, SetName, distinct_set_names
+from bbmc.scene.fos_settings import StrengthReduction
 from bbmc.support.config import Design, SupportElement
 
 Pair = Annotated[list[float], Field(min_length=2, max_length=2)]

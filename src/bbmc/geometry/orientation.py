@@ -28,6 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from bbmc.geometry.polygons import joint_set_trace
+
 
 def poles(dip: np.ndarray, dip_direction: np.ndarray) -> np.ndarray:
     """Upward unit normals (N x 3) of planes of `dip` and `dip_direction` [rad]."""
@@ -179,3 +181,40 @@ def goodness(orientation: SetOrientation, dips: np.ndarray) -> OrientationGoodne
     ks = stats.kstest(values, law.cdf).pvalue
     text = f"norm(loc={dip_deg:.6g}, scale={std_deg:.6g})"
     return OrientationGoodness("normal", float(np.sum(law.logpdf(values))), 2, float(ks), text)
+
+
+@dataclass(frozen=True)
+class SectionTraces:
+    """The orientation of each line of a set: its plane's true dip [deg] and dip direction relative to
+    the face [deg], and its trace in the section: unit normal (n_y >= 0) and spacing factor."""
+
+    dip_deg: np.ndarray
+    dip_direction_to_face_deg: np.ndarray
+    normal: np.ndarray  # (n, 2)
+    factor: np.ndarray  # a true spacing S puts traces S / factor apart in the section
+
+    @property
+    def apparent_dip_deg(self) -> np.ndarray:
+        """The traces' dip in the section [deg]: > 0 dipping out of the slope (towards -x), < 0 into it."""
+        return np.degrees(np.arctan2(-self.normal[:, 0], self.normal[:, 1]))
+
+
+def section_traces(dip_deg: np.ndarray, dip_direction_to_face_deg: np.ndarray) -> SectionTraces:
+    """The traces in the section of planes of these dips and dip directions relative to the face."""
+    rows = np.array([joint_set_trace(d, b) for d, b in zip(dip_deg, dip_direction_to_face_deg, strict=True)])
+    normal = rows[:, :2].reshape(-1, 2) * np.where(rows[:, 1:2] < 0, -1.0, 1.0)
+    return SectionTraces(np.asarray(dip_deg, float), np.asarray(dip_direction_to_face_deg, float), normal,
+                         rows[:, 2])  # fmt: skip
+
+
+def upward_pole(dip_deg: float, dip_direction_deg: float) -> np.ndarray:
+    """The upward unit normal (east, north, up) of a plane of this dip and dip direction (azimuth)."""
+    dip, azimuth = np.radians(dip_deg), np.radians(dip_direction_deg)
+    return np.array([np.sin(azimuth) * np.sin(dip), np.cos(azimuth) * np.sin(dip), np.cos(dip)])
+
+
+def plane_of_pole(pole: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Dip and dip direction [deg] of planes with these unit normals (n, 3) (either sense)."""
+    upward = pole * np.where(pole[:, 2:3] < 0, -1.0, 1.0)
+    dip = np.degrees(np.arccos(np.clip(upward[:, 2], -1.0, 1.0)))
+    return dip, np.degrees(np.arctan2(upward[:, 0], upward[:, 1])) % 360.0

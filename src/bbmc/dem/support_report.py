@@ -8,8 +8,8 @@ import numpy as np
 import pandas as pd
 
 from bbmc.dem import layout as L
-from bbmc.dem.polygons import carried_points
-from bbmc.support.elements import SupportElements
+from bbmc.dem.support_elements import SupportElements
+from bbmc.geometry.polygons import carried_points
 
 STATES = ("elastic", "yielded", "ruptured")
 

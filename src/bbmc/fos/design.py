@@ -9,7 +9,7 @@ spacing (the largest) is searched in its range, in two stages:
    contacts found at step 0, and the support's force its capacity per metre along its axis, in
    RocPlane's active form: FS = (c A + (N + T_n) tan phi) / (D - T_s). FS grows with the capacity and
    falls with the spacing, so the target is found by bisection (to 1e-4 of the value).
-2. The engine: strength reduction (`bbmc.dem.strength_reduction`) at the limit-equilibrium value, then,
+2. The engine: strength reduction (`bbmc.fos.strength_reduction`) at the limit-equilibrium value, then,
    while it falls short of the target, at values stepped towards the safe end of the range by
    bisection between the last short and the safe end, to `tolerance` of the value. Without a
    limit-equilibrium stage the engine bisects the whole range.
@@ -41,10 +41,10 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.motion import apply_loads
 from bbmc.dem.solver import initial_state, prepare
-from bbmc.dem.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.dem.support_elements import anchor_capacity_kN
 from bbmc.dem.water import add_water_loads
+from bbmc.fos.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.support.config import Anchor, Design, Tendon
-from bbmc.support.elements import anchor_capacity_kN
 
 PARALLEL = math.radians(1.0)  # contacts of one plane: their edges within this angle of each other
 LIMIT_EQUILIBRIUM_TOLERANCE = 1e-4  # of the value: limit equilibrium is cheap, the engine is not

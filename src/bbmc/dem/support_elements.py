@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from bbmc.dem import layout as L
-from bbmc.dem.scene import scene_error
+from bbmc.scene.schema import scene_error
 from bbmc.support.capacity import anchor_capacity, grouted_bolt_capacity
 from bbmc.support.config import Anchor, GroutedBolt
 

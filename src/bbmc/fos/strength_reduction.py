@@ -57,10 +57,11 @@ from bbmc import laws, units
 from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
-from bbmc.dem.fos_settings import StrengthReduction
 from bbmc.dem.model import Model
-from bbmc.dem.solver import SimulationError, State, advance, prepare
+from bbmc.dem.solver import SimulationError, advance, prepare
+from bbmc.dem.state import State
 from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
+from bbmc.scene.fos_settings import StrengthReduction
 
 ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equilibrium unreduced
 

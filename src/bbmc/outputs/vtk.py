@@ -35,7 +35,7 @@ from bbmc import units
 from bbmc.dem import layout as L
 from bbmc.dem.bridges import failure_mode
 from bbmc.dem.model import Model
-from bbmc.support.report import per_bolt_kN, support_lines
+from bbmc.dem.support_report import per_bolt_kN, support_lines
 
 
 def _vector(xy: np.ndarray) -> np.ndarray:
@@ -107,7 +107,7 @@ def contact_mesh(
 
 
 def support_mesh(model: Model, blocks: np.ndarray, support: np.ndarray) -> meshio.Mesh:
-    """The support elements as lines at the blocks' positions (`bbmc.support.report.support_lines`),
+    """The support elements as lines at the blocks' positions (`bbmc.dem.support_report.support_lines`),
     with their axial and shear force [kN per bolt] and state (0 elastic, 1 yielded, 2 ruptured)."""
     lines, axial = support_lines(model.support, blocks, support)
     state = np.where(support[:, L.BROKEN] > 0, 2, np.where(support[:, L.YIELDED] > 0, 1, 0))
