@@ -179,7 +179,13 @@ def test_a_crossed_design_it_cannot_make_is_refused_in_one_line(tmp_path, change
 
 
 def test_a_crossed_design_without_a_geometry_variable_is_refused(tmp_path):
+    """No geometry variable, a realization declared not geometry, a correlation reaching into the
+    geometry (its draws are made apart from the others'): each refused by the study's model."""
     data = yaml.safe_load(_crossed_planar(tmp_path).read_text())
+    with pytest.raises(ValueError, match="correlates none of its geometry variables"):
+        Config.model_validate(
+            data | {"correlation": {"between": ["plane_deg", "strength.tan_friction"], "rho": 0.5}}
+        )
     data["variables"][0].pop("geometry")
     with pytest.raises(ValueError, match="needs a geometry variable"):
         Config.model_validate(data)

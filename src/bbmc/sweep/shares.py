@@ -15,8 +15,8 @@ e_rs the interaction, of variances s_a^2, s_b^2, s_e^2 (FS^2, dimensionless). Th
 (its first-order Sobol' index), the others' s_b^2 / Var(FS), their interaction s_e^2 / Var(FS).
 
 Estimator: the ANOVA (method of moments) estimators of the two-way crossed random-effects model with
-one run per cell (Searle, Casella & McCulloch 1992, Variance Components, sec. 4.5), unbiased for each
-variance:
+one run per cell (Searle, Casella & McCulloch 1992, Variance Components, ch. 4, balanced data),
+unbiased for each variance:
 
     MS_r = m sum_r (ybar_r. - ybar..)^2 / (n - 1),                  E[MS_r] = s_e^2 + m s_a^2
     MS_s = n sum_s (ybar_.s - ybar..)^2 / (m - 1),                  E[MS_s] = s_e^2 + n s_b^2
