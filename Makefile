@@ -51,6 +51,7 @@ sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/paper_slope_le.yaml
 	$(BIN)/bbmc sweep --config configs/sweeps/paper_slope_dem.yaml
 	$(BIN)/bbmc sweep configs/sweeps/benched_rock_mass.yaml
+	$(BIN)/bbmc sweep configs/sweeps/benched_rock_mass_crossed.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q

@@ -312,8 +312,9 @@ def sweep_command(
     writes results/sweep/<name>/samples.csv, summary.csv (FS at the mean inputs, mean and std of FS,
     P_f with its 95 % interval, reliability indices, impossible samples, truncations),
     convergence.csv, convergence.png, sensitivity.csv, fs_distribution.png, tornado.png,
-    provenance.json. Finished batches are kept in results/sweep/<name>.progress/: the same command
-    run again after an interruption runs only the missing samples. Progress and the time left on stderr.
+    provenance.json, and for a crossed design (sampling.realizations) geometry_share.csv. Finished
+    batches are kept in results/sweep/<name>.progress/: the same command run again after an
+    interruption runs only the missing samples. Progress and the time left on stderr.
     Exit status 4 (nothing written) if no sample gave a result, with the first errors.
     """
     with reported(sweep_stage.NAME, strict):

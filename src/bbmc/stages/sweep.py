@@ -18,12 +18,13 @@ seed (NaN for a study without a `realization` variable; <key> is the key its err
 `blocks` for a block that finds no equilibrium even elastically or blocks that overlap), the FS at the
 mean inputs, mean and standard deviation of FS, probability of failure with its 95 % interval,
 reliability indices, the truncations),
-convergence.csv and convergence.png (P_f and mean FS against the number of samples), sensitivity.csv
-(Spearman rank correlation of each input with FS; Sobol indices for a saltelli design),
-fs_distribution.png, tornado.png and provenance.json. The finished batches stay in
-<results>/sweep/<name>.progress/<study>/ (one folder per distinct study), so that running the same
-command again runs only what is missing. A study in which no sample gave a result raises
-`NoValidSampleError` (exit status 4) and writes nothing.
+convergence.csv and convergence.png (P_f and mean FS against the number of samples; not for a grid or
+a crossed design), sensitivity.csv (Spearman rank correlation of each input with FS; Sobol indices for
+a saltelli design; a realization's seed, which has no order, is not ranked), fs_distribution.png,
+tornado.png, for a crossed design geometry_share.csv (`bbmc.sweep.shares`), and provenance.json. The
+finished batches stay in <results>/sweep/<name>.progress/<study>/ (one folder per distinct study), so
+that running the same command again runs only what is missing. A study in which no sample gave a
+result raises `NoValidSampleError` (exit status 4) and writes nothing.
 """
 
 from __future__ import annotations
@@ -37,7 +38,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 from pydantic import BaseModel
 
@@ -49,7 +49,7 @@ from bbmc.io import StageResult
 from bbmc.scene.schema import Scene
 from bbmc.slope import safety
 from bbmc.slope.config import load_paper_slope
-from bbmc.sweep import design, figures, statistics
+from bbmc.sweep import design, figures, shares, statistics
 from bbmc.sweep.config import Config, Planar, Toppling
 from bbmc.sweep.models import (
     ERROR,
@@ -61,7 +61,7 @@ from bbmc.sweep.models import (
     get_path,
 )
 from bbmc.sweep.outcomes import COUNTS, IMPOSSIBLE, Outcomes, first_errors, one_line
-from bbmc.sweep.ranges import Range, key_range
+from bbmc.sweep.ranges import Range, impossible_inputs, key_range
 from bbmc.sweep.runner import Model, run_batches
 
 NAME = "sweep"
@@ -210,26 +210,16 @@ def design_of(config: Config, config_path: Path, inputs: Inputs) -> tuple[pd.Dat
             return design.saltelli_table(inputs.variables, s.samples, s.seed)
         corr = config.correlation
         correlation = (*corr.between, corr.rho) if corr else None
+        if s.realizations is not None:
+            geometry = {v.path for v in config.variables if v.is_geometry}
+            groups = [
+                [(p, d) for p, d in inputs.variables if (p in geometry) == side] for side in (True, False)
+            ]
+            table = design.crossed_table(*groups, s.realizations, s.samples, s.method, s.seed, correlation)
+            return table[[path for path, _ in inputs.variables]], None
         return design.sample_table(inputs.variables, s.samples, s.method, s.seed, correlation), None
     except ValueError as error:
         raise ConfigError(f"{config_path}: key 'sampling': {error}") from None
-
-
-def impossible_inputs(table: pd.DataFrame, ranges: dict[str, Range]) -> pd.Series:
-    """Per sample, "" or the error of its inputs outside the ranges their keys accept
-    ("impossible input: strength.tan_friction = -0.159 (accepts > 0)")."""
-    messages = np.full(len(table), "", dtype=object)
-    for path in table.columns:
-        outside = ~ranges[path].contains(table[path].to_numpy())
-        if outside.any():
-            found = [
-                f"{path} = {value:g} (accepts {ranges[path]})" for value in table[path].to_numpy()[outside]
-            ]
-            before = messages[outside]
-            messages[outside] = np.where(before == "", "impossible input: ", before + "; ") + np.array(
-                found, dtype=object
-            )
-    return pd.Series(messages, index=table.index, dtype=object)
 
 
 def study_key(config: Config, tree: dict | None) -> str:
@@ -426,12 +416,18 @@ def fs_result(
         "summary": pd.concat([_rows(stats), invalid, truncation_rows(inputs.truncated)], ignore_index=True),
     }
     drawn = {"fs_distribution": figures.distribution_figure(fs, stats, config.figure_dpi)}
-    if config.sampling.method != "grid":
+    if config.sampling.realizations is not None:  # its order is not a random one: no convergence
+        tables |= shares.tables(fs, outcomes.excluded, config.sampling, tables["summary"], say)
+    elif config.sampling.method != "grid":
         convergence = statistics.convergence(fs, outcomes.excluded, statistics.convergence_counts(len(fs)))
         tables["convergence"] = convergence
         drawn["convergence"] = figures.convergence_figure(convergence, stats, config.figure_dpi)
+    seeds = {path for path, dist in inputs.variables if isinstance(dist, design.Realizations)}
+    ranked = [path for path in inputs.ranges if path not in seeds]  # a seed has no order: not ranked
     try:
-        ranks = statistics.spearman(samples[list(inputs.ranges)], fs)
+        if not ranked:
+            raise ValueError("a seed has no order, and nothing else varies")
+        ranks = statistics.spearman(samples[ranked], fs)
     except ValueError as error:  # fewer than 3 valid samples
         say(f"no sensitivities: {error}")
         return StageResult(tables=tables, figures=drawn)

@@ -135,7 +135,10 @@ class Variable(Section):
     for a whole-number key such as a rock mass's seed). `truncate` (default true): the distribution is
     truncated to the range the key accepts (a cohesion >= 0, a friction angle in [0, 90) deg:
     `bbmc.sweep.ranges`), renormalised; false keeps the whole distribution, and a sample drawn outside
-    the range is counted as impossible and not run."""
+    the range is counted as impossible and not run. `geometry` (default: true for a realization, false
+    otherwise) puts the variable in the geometry group of a crossed design (`Sampling.realizations`):
+    drawn once per realization, with its seed (a set's persistence moves every trace: a different
+    rock mass)."""
 
     path: Annotated[str, Field(min_length=1)]
     distribution: Literal["normal", "lognormal", "uniform", "triangular", "truncated_normal", "realization"]
@@ -145,6 +148,12 @@ class Variable(Section):
     max: float | None = None
     mode: float | None = None
     truncate: bool = True
+    geometry: bool | None = None
+
+    @property
+    def is_geometry(self) -> bool:
+        """Whether the variable is drawn once per realization in a crossed design."""
+        return self.distribution == "realization" if self.geometry is None else self.geometry
 
     def parameters(self) -> dict[str, float]:
         """The distribution's parameters as given (`bbmc.sweep.design.marginal` checks them)."""
@@ -168,6 +177,8 @@ class Variable(Section):
             raise ValueError(f"a {self.distribution} distribution needs {', '.join(missing)}")
         if extra:
             raise ValueError(f"a {self.distribution} distribution takes no {', '.join(extra)}")
+        if self.distribution == "realization" and self.geometry is False:
+            raise ValueError("a realization is the geometry: it takes no `geometry: false`")
         return self
 
 
@@ -183,11 +194,14 @@ class Correlation(Section):
 
 class Sampling(Section):
     """monte_carlo, latin_hypercube, sobol (scrambled; samples a power of 2), saltelli (SALib's design
-    for Sobol indices: samples x (variables + 2) runs), or grid (the cartesian product of `grid`)."""
+    for Sobol indices: samples x (variables + 2) runs), or grid (the cartesian product of `grid`).
+    `realizations` n crosses the design (`bbmc.sweep.design.crossed_table`): n draws of the geometry
+    variables, each paired with the same `samples` m draws of the others, n x m runs."""
 
     method: Literal["monte_carlo", "latin_hypercube", "sobol", "saltelli", "grid"]
     samples: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
     seed: Annotated[int, Field(ge=0)] = 0
+    realizations: Annotated[int, Field(ge=2, le=100_000)] | None = None
 
 
 class Config(Section):
@@ -215,4 +229,22 @@ class Config(Section):
             raise ValueError("a path is given twice")
         if self.correlation is not None and not set(self.correlation.between) <= set(paths):
             raise ValueError("correlation.between must name two of the variables' paths")
+        if self.sampling.realizations is not None:
+            self._crossed()
         return self
+
+    def _crossed(self) -> None:
+        """A crossed design needs a random design, at least 2 samples per realization, a geometry and
+        another variable, and no correlation reaching into the geometry."""
+        if self.sampling.method not in ("monte_carlo", "latin_hypercube", "sobol"):
+            raise ValueError(f"sampling.realizations crosses a random design, not {self.sampling.method}")
+        if self.sampling.samples < 2:
+            raise ValueError("sampling.realizations needs samples >= 2 (draws of the other inputs)")
+        geometry = {v.path for v in self.variables if v.is_geometry}
+        if not geometry or len(geometry) == len(self.variables):
+            raise ValueError(
+                "sampling.realizations needs a geometry variable (a realization, or `geometry: true`) and "
+                "another one"
+            )
+        if self.correlation is not None and set(self.correlation.between) & geometry:
+            raise ValueError("a crossed design correlates none of its geometry variables")

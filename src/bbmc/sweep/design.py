@@ -299,6 +299,28 @@ def sample_table(
     return _table(names, _map(variables, u))
 
 
+def crossed_table(
+    geometry: list[Variable],
+    others: list[Variable],
+    realizations: int,
+    samples: int,
+    method: str,
+    seed: int,
+    correlation: tuple[str, str, float] | None = None,
+) -> pd.DataFrame:
+    """A crossed design: `realizations` n draws of the geometry variables (a rock mass's seed and what
+    goes with it) and `samples` m draws of the others, each by `sample_table` from its own stream
+    (numpy SeedSequence(seed).spawn(2): independent groups), every draw of the others paired with
+    every realization. Row r m + s (index "sample") holds realization r and draw s, so FS reshaped to
+    (n, m) is FS[r, s] (`bbmc.sweep.shares`); `correlation` between two of the others. n m rows."""
+    streams = [int(child.generate_state(1)[0]) for child in np.random.SeedSequence(seed).spawn(2)]
+    shapes = sample_table(geometry, realizations, method, streams[0])
+    strengths = sample_table(others, samples, method, streams[1], correlation)
+    rows = np.repeat(shapes.to_numpy(), samples, axis=0)
+    columns = np.tile(strengths.to_numpy(), (realizations, 1))
+    return _table([*shapes.columns, *strengths.columns], np.column_stack([rows, columns]))
+
+
 def saltelli_table(variables: list[Variable], n: int, seed: int) -> tuple[pd.DataFrame, dict]:
     """Saltelli's design for first- and total-order Sobol' indices, and the SALib problem to analyse it.
 

@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from pydantic import BaseModel
 
@@ -108,3 +109,20 @@ def key_range(model: type[BaseModel], tree: object, path: str) -> Range:
         high_open=high_open,
         integer=node.get("type") == "integer",
     )
+
+
+def impossible_inputs(table: pd.DataFrame, ranges: dict[str, Range]) -> pd.Series:
+    """Per sample, "" or the error of its inputs outside the ranges their keys accept
+    ("impossible input: strength.tan_friction = -0.159 (accepts > 0)")."""
+    messages = np.full(len(table), "", dtype=object)
+    for path in table.columns:
+        outside = ~ranges[path].contains(table[path].to_numpy())
+        if outside.any():
+            found = [
+                f"{path} = {value:g} (accepts {ranges[path]})" for value in table[path].to_numpy()[outside]
+            ]
+            before = messages[outside]
+            messages[outside] = np.where(before == "", "impossible input: ", before + "; ") + np.array(
+                found, dtype=object
+            )
+    return pd.Series(messages, index=table.index, dtype=object)
