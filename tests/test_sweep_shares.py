@@ -194,6 +194,10 @@ def test_a_crossed_design_without_a_geometry_variable_is_refused(tmp_path):
         data["variables"][0].pop(key)
     with pytest.raises(ValueError, match="takes no `geometry: false`"):
         Config.model_validate(data)
+    plain = yaml.safe_load(_crossed_planar(tmp_path).read_text())
+    plain["sampling"].pop("realizations")
+    with pytest.raises(ValueError, match="crossed design: give realizations"):
+        Config.model_validate(plain)
 
 
 def _seed_study(method: str, n: int) -> tuple[Config, stage.Inputs, pd.DataFrame, dict | None]:

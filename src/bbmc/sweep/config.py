@@ -231,6 +231,8 @@ class Config(Section):
             raise ValueError("correlation.between must name two of the variables' paths")
         if self.sampling.realizations is not None:
             self._crossed()
+        elif any(v.geometry for v in self.variables):
+            raise ValueError("`geometry: true` groups a variable in a crossed design: give realizations")
         return self
 
     def _crossed(self) -> None:
