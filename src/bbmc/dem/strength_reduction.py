@@ -53,13 +53,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbmc import laws, units
+from bbmc import laws
 from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
 from bbmc.dem.fos_settings import StrengthReduction
 from bbmc.dem.model import Model
 from bbmc.dem.solver import SimulationError, State, advance, prepare
+from bbmc.dem.stopping import no_equilibrium
 from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
 
 ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equilibrium unreduced
@@ -329,36 +330,8 @@ def _equilibrium(
         if verdict == STABLE:
             return start, state, state.step, time.perf_counter() - started, from_rest
     raise SimulationError(
-        _no_equilibrium(model, state, start_world, reason, settings, reference), bad_input=True
-    )
-
-
-def _no_equilibrium(
-    model: Model,
-    state: State,
-    start_world: np.ndarray,
-    reason: str,
-    settings: StrengthReduction,
-    reference: float,
-) -> str:
-    """Why even the elastic start finds no equilibrium, naming the block whose vertex moved most (how
-    far, how fast): a block that moved the failure displacement has nothing holding it (its geometry is
-    at fault, however many steps); one still moving when solver.steps ran out may only need more."""
-    moved = np.hypot(*(state.world - start_world).T)
-    block = int(model.vertex_block[np.argmax(moved)])
-    name, distance = model.block_names[block], float(moved.max()) / units.mm
-    speed = float(np.hypot(state.blocks[block, L.VX], state.blocks[block, L.VY]))
-    where = f"block '{name}' moved {distance:.3g} mm and moves at {speed:.3g} m/s after {state.step} steps"
-    if reason == "displacement":
-        return (
-            f"key 'blocks': no equilibrium even with every strength x 1e6 (elastic): {where}: nothing holds "
-            "it (more solver.steps will not help): give it a block or a held side to rest on, or fix it"
-        )
-    return (
-        f"key 'solver.steps': no equilibrium even with every strength x 1e6 (elastic) in {state.step} steps: "
-        f"the unbalanced-force ratio is {mon.unbalanced_force_ratio(state, reference):.3g} (limit "
-        f"{settings.unbalanced_force_ratio:g}); {where}: raise solver.steps if it is still settling, else "
-        "give it support or fix it"
+        no_equilibrium(model, state, start_world, reason, settings.unbalanced_force_ratio, reference),
+        bad_input=True,
     )
 
 
