@@ -17,7 +17,9 @@ the support grows at a constant rate over t_r = RAMP_PERIODS T, and an undamped 
 the ramp oscillating about its equilibrium with an amplitude u_e (T / (pi t_r)) |sin(pi t_r / T)|
 (the ramp response, e.g. Clough & Penzien, Dynamics of Structures, ch. 4): none for a whole number of
 periods, and at most u_e / (2 pi) for any t_r >= 2 T; damping only lowers it. Measured: every trial of
-that bolt between F 0.93 and 0.99 comes to rest within 0.1 mm of its equilibrium.
+that bolt between F 0.93 and 0.99 comes to rest within 0.1 mm of its equilibrium. Only the
+`envelope` reduction is spread (`phi_b_jrc` re-evaluates the joints' laws at a trial's start, so it
+is applied at once there).
 """
 
 from __future__ import annotations
