@@ -28,6 +28,16 @@ decides alone: *decaying* if r <= `DECIDING_RATIO` and the projection stays shor
 displacement (or the motion is at rest), else *creep*. So the verdict never waits for a step
 budget: a run given 1 + 8 windows or more gets the same verdict whatever its budget. Confirmations
 keep a window of knocking blocks from deciding.
+
+On a soft support (`approach`: the support's natural period, not the equilibrium's steps, sets the
+windows) a block creeps towards its equilibrium on the support: the support's force grows with the
+displacement u, k (u_e - u) drives the block and the damping (Cundall's, fed by the contacts'
+chatter) drags it, so each window moves about a fixed fraction of what is left, d_k = (1 - r)
+(u_e - u_k), with r near 0.9 per natural period (measured), and u_e = u_k + d_k r / (1 - r) is where
+it comes to rest. There the decision at `DECIDING_WINDOWS` is that projection's alone: *decaying*
+for any r < 1 whose projected resting place stays within the failure displacement, else *projected*
+(r < 1) or *creep*. It cannot hold a failing block: one whose equilibrium lies beyond the failure
+displacement projects beyond it, and one not slowing (r >= 1) projects no rest at all.
 """
 
 from __future__ import annotations
@@ -54,6 +64,7 @@ class Trend:
 
     failure_displacement: float  # [m]
     unbalance_limit: float  # the unbalanced-force ratio that means equilibrium [1]
+    approach: bool = False  # a block approaching its equilibrium on a soft support (module docstring)
     moves: list[float] = field(default_factory=list)  # largest vertex movement in each window [m]
     leaning: str = ""  # the verdict the last window leaned to
     agreeing: int = 0  # successive windows that leaned to it
@@ -97,7 +108,9 @@ class Trend:
         if self.agreeing >= CONFIRMATIONS:
             return (STABLE if leaning == "decaying" else UNSTABLE), leaning
         if len(self.moves) > DECIDING_WINDOWS:
-            if resting or (r <= DECIDING_RATIO and moved_so_far + remainder <= self.failure_displacement):
+            deciding = 1.0 if self.approach else DECIDING_RATIO
+            within = moved_so_far + remainder <= self.failure_displacement
+            if resting or (r <= deciding and r < 1.0 and within):
                 return STABLE, "decaying"
-            return UNSTABLE, "creep"
+            return UNSTABLE, "projected" if self.approach and r < 1.0 else "creep"
         return None

@@ -38,7 +38,8 @@ by F as well, RocPlane's *passive* form: (c A + (N + T sin theta) tan phi + T co
 psi. A grouted bolt's force grows with the displacement across its joint, so its share at failure is
 what it carries once a trial's blocks have moved `failure_displacement_m` (docs/how-to/support.md);
 a trial's budget and trend windows are counted from the support's longest natural period where that is
-longer than the equilibrium's steps.
+longer than the equilibrium's steps. On such a soft support the reduction is spread over two of those
+periods (`bbmc.dem.gradual`: no dynamic overshoot) and the trend judges where the block comes to rest.
 """
 
 from __future__ import annotations
@@ -53,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbmc import laws, units
+from bbmc import laws
 from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
@@ -61,6 +62,8 @@ from bbmc.dem.model import Model
 from bbmc.dem.solver import SimulationError, advance, prepare
 from bbmc.dem.state import State
 from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
+from bbmc.fos import gradual
+from bbmc.fos.elastic_start import no_equilibrium
 from bbmc.scene.fos_settings import StrengthReduction
 
 ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equilibrium unreduced
@@ -266,12 +269,15 @@ def settle(
     reference: float,
     judged: Judged,
     window: int | None = None,
+    origin: np.ndarray | None = None,
+    approach: bool = False,
 ) -> tuple[str, str]:
     """Run `state` until its verdict (module docstring), read on the `judged` blocks alone: (verdict,
-    reason). With `window` [steps], the trend of its motion over successive windows decides too
-    (`bbmc.dem.verdict.Trend`)."""
-    start_world, first = state.world.copy(), state.step
-    trend = Trend(failure_displacement, settings.unbalanced_force_ratio) if window else None
+    reason), displacements counted from `origin` (the vertices [m]; default: as they are now). With
+    `window` [steps], the trend of its motion over successive windows decides too
+    (`bbmc.dem.verdict.Trend`; `approach`: on a soft support)."""
+    start_world, first = state.world.copy() if origin is None else origin, state.step
+    trend = Trend(failure_displacement, settings.unbalanced_force_ratio, approach) if window else None
     window_start, window_world = first, state.world.copy()
     while state.step - first < budget:
         advance(model, state, min(settings.check_every_steps, budget - (state.step - first)))
@@ -330,36 +336,8 @@ def _equilibrium(
         if verdict == STABLE:
             return start, state, state.step, time.perf_counter() - started, from_rest
     raise SimulationError(
-        _no_equilibrium(model, state, start_world, reason, settings, reference), bad_input=True
-    )
-
-
-def _no_equilibrium(
-    model: Model,
-    state: State,
-    start_world: np.ndarray,
-    reason: str,
-    settings: StrengthReduction,
-    reference: float,
-) -> str:
-    """Why even the elastic start finds no equilibrium, naming the block whose vertex moved most (how
-    far, how fast): a block that moved the failure displacement has nothing holding it (its geometry is
-    at fault, however many steps); one still moving when solver.steps ran out may only need more."""
-    moved = np.hypot(*(state.world - start_world).T)
-    block = int(model.vertex_block[np.argmax(moved)])
-    name, distance = model.block_names[block], float(moved.max()) / units.mm
-    speed = float(np.hypot(state.blocks[block, L.VX], state.blocks[block, L.VY]))
-    where = f"block '{name}' moved {distance:.3g} mm and moves at {speed:.3g} m/s after {state.step} steps"
-    if reason == "displacement":
-        return (
-            f"key 'blocks': no equilibrium even with every strength x 1e6 (elastic): {where}: nothing holds "
-            "it (more solver.steps will not help): give it a block or a held side to rest on, or fix it"
-        )
-    return (
-        f"key 'solver.steps': no equilibrium even with every strength x 1e6 (elastic) in {state.step} steps: "
-        f"the unbalanced-force ratio is {mon.unbalanced_force_ratio(state, reference):.3g} (limit "
-        f"{settings.unbalanced_force_ratio:g}); {where}: raise solver.steps if it is still settling, else "
-        "give it support or fix it"
+        no_equilibrium(model, state, start_world, reason, settings.unbalanced_force_ratio, reference),
+        bad_input=True,
     )
 
 
@@ -400,7 +378,11 @@ def factor_of_safety(
     progress("equilibrium with the strengths as given")
     judged = Judged.of(model)
     start, equilibrium, n_r, eq_seconds, from_rest = _equilibrium(model, settings, failure, reference, judged)
-    response = max(n_r, _support_response_steps(model, equilibrium))
+    support_steps = _support_response_steps(model, equilibrium)
+    response, soft = max(n_r, support_steps), support_steps > n_r
+    ramp_steps = (
+        gradual.RAMP_PERIODS * support_steps if soft and settings.barton_bandis_reduction == "envelope" else 0
+    )
     budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * response))
     window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * response))
     progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
@@ -408,14 +390,20 @@ def factor_of_safety(
     mechanism, mechanism_blocks = None, None
     held, stable_blocks = equilibrium.support.copy(), equilibrium.blocks.copy()
 
-    def attempt(factor: float) -> bool:
-        nonlocal mechanism, mechanism_blocks, held, stable_blocks
-        state = copy_state(equilibrium)
-        trial_model = _with_params(
+    def reduced_to(factor: float) -> Model:
+        return _with_params(
             model,
             reduced_params(model, factor, settings.barton_bandis_reduction),
             factor if settings.support_form == "passive" else 1.0,
         )
+
+    def beyond(state: State) -> bool:
+        return largest_displacement(state, equilibrium.world, judged.vertices) > failure
+
+    def attempt(factor: float) -> bool:
+        nonlocal mechanism, mechanism_blocks, held, stable_blocks
+        state = copy_state(equilibrium)
+        trial_model = reduced_to(factor)
         if settings.barton_bandis_reduction == "phi_b_jrc" and trial_model.variable_laws:
             state.law_state[:, L.LAW_SN] = math.nan  # the envelope changed: re-evaluate every sub-contact
             joint_state.update_joint_laws(
@@ -432,7 +420,22 @@ def factor_of_safety(
             state.subs[np.repeat(law == L.STRENGTH_BARTON_BANDIS, state.n_sub), L.TEN] /= factor
         started, first = time.perf_counter(), state.step
         with _stage(f"the trial at F = {factor:.4g}"):
-            verdict, reason = settle(trial_model, state, settings, budget, failure, reference, judged, window)
+            every = settings.check_every_steps
+            if ramp_steps and gradual.ramp(reduced_to, state, factor, ramp_steps, every, beyond):
+                verdict, reason = UNSTABLE, "displacement"
+            else:
+                verdict, reason = settle(
+                    trial_model,
+                    state,
+                    settings,
+                    budget,
+                    failure,
+                    reference,
+                    judged,
+                    window,
+                    equilibrium.world,
+                    soft,
+                )
         block, moved, size = judged.moved_most(model, state, equilibrium.world)
         trial = Trial(
             factor=factor,
