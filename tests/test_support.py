@@ -127,7 +127,7 @@ def test_a_soft_grouted_bolts_fos_is_set_by_the_failure_displacement():
     the FS counts the support's force at the failure displacement. Measured: delta_f 100 mm, FS 0.8994
     against 0.9010 (0.2 %); 200 mm, 0.9697 against 0.9857 (1.6 % short; before the reduction was spread
     over two natural periods and the trend projected where the block comes to rest, 0.9287, 5.8 %:
-    `bbmc.dem.gradual`, docs/verification.md)."""
+    `bbmc.fos.gradual`, docs/verification.md)."""
     bolt = grouted(debonded_length_m=300.0, steel_capacity_kN=2000)
     found = {}
     for delta in (0.1, 0.2):

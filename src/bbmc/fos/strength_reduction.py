@@ -39,7 +39,7 @@ psi. A grouted bolt's force grows with the displacement across its joint, so its
 what it carries once a trial's blocks have moved `failure_displacement_m` (docs/how-to/support.md);
 a trial's budget and trend windows are counted from the support's longest natural period where that is
 longer than the equilibrium's steps. On such a soft support the reduction is spread over two of those
-periods (`bbmc.dem.gradual`: no dynamic overshoot) and the trend judges where the block comes to rest.
+periods (`bbmc.fos.gradual`: no dynamic overshoot) and the trend judges where the block comes to rest.
 """
 
 from __future__ import annotations
