@@ -363,6 +363,7 @@ def test_joint_stiffness_ranges_reach_field_blocks(key, value, plausible):
         ("joint_laws.j.friction_deg", 4e-6, True),  # below 5 deg / 10^6
         ("joint_laws.j.friction_deg", 6e-6, False),
         ("joint_laws.j.friction_deg", 0.0, False),  # a frictionless joint: a model's choice
+        ("strength.tan_friction", -5.0, False),  # negative: no slip of magnitude, the key's own checks
         ("joint_laws.j.sigma_n_MPa", -1.0001e8, True),  # below 10^6 x a negative low end
         ("joint_laws.j.sigma_n_MPa", -1e-300, False),
         ("solver.steps", 1e300, False),  # no plausible range: not judged here

@@ -288,13 +288,14 @@ def _numbers(
 
 def beyond(path: str, value: float) -> str | None:
     """Why `value` at the dotted key `path` is refused, or None: above `FAR` times the high end of its
-    range (below `FAR` times a negative low end), or below a positive low end over `FAR`. 0 is not
-    refused (a frictionless joint is a model's choice, not a slip): outside a range, it is warned about."""
+    range (below `FAR` times a negative low end), or positive and below a positive low end over `FAR`.
+    0 or a negative number under a positive low end is no slip of magnitude (a frictionless joint is
+    a model's choice): it is left to the key's own checks, and warned about."""
     row = _row(path)
     if row is None:
         return None
     above = (row.high > 0 and value > FAR * row.high) or (row.low < 0 and value < FAR * row.low)
-    below = row.low > 0 and value != 0 and value < row.low / FAR
+    below = row.low > 0 and 0 < value < row.low / FAR
     if not (above or below):
         return None
     return f"is more than a factor of 10^6 outside {row.span} for {row.what}: no unit slip explains it"
