@@ -16,7 +16,7 @@ import pytest
 import yaml
 from click.testing import CliRunner, Result
 
-from bbmc import api, plausibility
+from bbmc import api, paper_tables, plausibility
 from bbmc.cli import main
 from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.model import build_model
@@ -25,7 +25,7 @@ from bbmc.plausibility import ImplausibleValue
 from bbmc.scene.schema import Scene
 from bbmc.stages import audit, bench, fit, joint, joints, mc, shear, slope
 from bbmc.sweep.config import Config as Study
-from stage_runs import config_copy
+from stage_runs import PAPER, config_copy
 from stage_runs import refused as _refused
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -333,6 +333,80 @@ def test_the_files_a_config_names_are_checked_too(tmp_path):
         out,
         f"{mc_config}: key 'joint.jcs_MPa' = 3310",
     )
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "plausible"),
+    [
+        ("shear_stiffness.ks_MPa_per_mm", 0.0001, True),  # the paper's Table 3 tangent K_s near the peak
+        ("shear_stiffness.ks_MPa_per_mm", 0.0027, True),
+        ("shear_stiffness.ks_MPa_per_mm", 2e-5, True),  # (100 / 50 m) x 0.01 MPa: a field block (Barton 1982)
+        ("shear_stiffness.ks_MPa_per_mm", 5e-6, False),
+        ("strength.kj_MPa_per_mm", 2e-5, True),
+        ("normal_stiffness.kn_MPa_per_mm", 0.002, True),  # E_m / s = 0.1 GPa / 50 m (Goodman 1989)
+        ("normal_stiffness.kn_MPa_per_mm", 0.0005, False),
+        ("normal_stiffness.kn_MPa_per_mm", 2000, False),
+    ],
+)
+def test_joint_stiffness_ranges_reach_field_blocks(key, value, plausible):
+    """K_s falls as 1/L with the block length (docs/plausible-ranges.md): the field's and the paper's
+    near-peak K_s are plausible; K_n has its own floor, from a rock mass's modulus."""
+    assert (plausibility.verdict(key, value) is None) == plausible
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "refused"),
+    [
+        ("joint_laws.j.cohesion_kPa", 4.8e300, True),
+        ("joint_laws.j.cohesion_kPa", 1e9, False),  # 10^6 x the high end: warned, not refused
+        ("joint_laws.j.cohesion_kPa", 1.0001e9, True),
+        ("joint_laws.j.friction_deg", 4e-6, True),  # below 5 deg / 10^6
+        ("joint_laws.j.friction_deg", 6e-6, False),
+        ("joint_laws.j.friction_deg", 0.0, False),  # a frictionless joint: a model's choice
+        ("strength.tan_friction", -5.0, False),  # negative: no slip of magnitude, the key's own checks
+        ("joint_laws.j.sigma_n_MPa", -1.0001e8, True),  # below 10^6 x a negative low end
+        ("joint_laws.j.sigma_n_MPa", -1e-300, False),
+        ("solver.steps", 1e300, False),  # no plausible range: not judged here
+    ],
+)
+def test_a_value_far_beyond_its_range_is_refused(key, value, refused):
+    assert (plausibility.beyond(key, value) is not None) == refused
+
+
+@pytest.mark.parametrize("strict", [[], ["--strict"]])
+def test_a_config_value_far_beyond_its_range_is_refused_without_strict(tmp_path, strict):
+    path = _with(SCENE, tmp_path, "joint_laws.plane.cohesion_MPa", 4.8e300)
+    out = tmp_path / "out"
+    _refused(
+        _invoke("fos", path, *strict, "--results", out),
+        out,
+        f"{path}: key 'joint_laws.plane.cohesion_MPa' = 4.8e+300 is more than a factor of 10^6 outside",
+    )
+
+
+@pytest.mark.parametrize(
+    ("table", "column", "value", "shown"),
+    [
+        ("table4_joints_constant", "c_kPa", "4.8e300", "= 4.8e+300 is more than a factor of 10^6 outside"),
+        ("fig2a_legends", "slope_a", "1e308", "= 1e+308 (1e-311 MPa/mm as ks_MPa_per_mm)"),
+        ("fig2a_legends", "sigma_n_kPa", "1e308", "= 1e+308 (1e+305 MPa as sigma_n_MPa)"),
+        ("table1_measurements", "K_si_GPa_per_m", "1e-12", "= 1e-12 is more than a factor"),
+    ],
+)
+def test_a_data_file_number_far_beyond_its_range_is_refused(tmp_path, table, column, value, shown):
+    """As in a config: one line naming the file, the line and the column (a data file's numbers are the
+    paper's: only refused, never warned about)."""
+    rows = (PAPER / f"{table}.csv").read_text().splitlines()
+    header = rows[0].split(",")
+    cells = rows[1].split(",")
+    cells[header.index(column)] = value
+    path = tmp_path / f"{table}.csv"
+    path.write_text("\n".join([rows[0], ",".join(cells), *rows[2:]]) + "\n")
+    with pytest.raises(ConfigError, match=re.escape(f"{path}: line 2: column '{column}' {shown}")):
+        paper_tables.read(table, path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        paper_tables.read(table, PAPER / f"{table}.csv")
 
 
 def test_the_python_api_warns_about_an_implausible_value():

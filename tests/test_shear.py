@@ -14,9 +14,10 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 from click.testing import CliRunner
 
-from bbmc import laws, units
+from bbmc import laws, plausibility, units
 from bbmc.cli import main
 from bbmc.comparison import TOLERANCES, within
 from bbmc.config import load_config
@@ -60,11 +61,17 @@ ROWS = range(10)
 
 
 @pytest.fixture(scope="module")
-def results(tmp_path_factory: pytest.TempPathFactory):
+def shear_run(tmp_path_factory: pytest.TempPathFactory):
+    """`bbmc shear` on configs/shear.yaml into a temporary folder: (its outcome, its results folder)."""
     folder = tmp_path_factory.mktemp("results")
     outcome = run_stage("shear", folder)
     assert outcome.exit_code == 0, outcome.output
-    return folder / "shear"
+    return outcome, folder / "shear"
+
+
+@pytest.fixture(scope="module")
+def results(shear_run):
+    return shear_run[1]
 
 
 @pytest.fixture(scope="module")
@@ -289,3 +296,15 @@ def test_a_written_scene_reruns_with_bbmc_run_to_the_same_d_h(results, tmp_path)
     tests = pd.read_csv(results / "stress_tests.csv")
     row = tests[(tests["law"] == "corrected") & (tests["tau_MPa"] == 0.13)].iloc[0]
     assert abs(history["d_h_mm"].iloc[-1]) == row["d_h_mm"]
+
+
+def test_the_stage_prints_no_warning_and_its_scenes_none_when_rerun(shear_run) -> None:
+    """`make reproduce`'s shear prints no warning line: the calibration's K_s (down to 1e-6 K_si) are the
+    program's own, not typed input; and every scene it writes, read back as a user's scene file, has
+    its numbers within their plausible ranges (docs/plausible-ranges.md)."""
+    outcome, folder = shear_run
+    assert [line for line in outcome.stderr.splitlines() if ": warning: " in line] == []
+    scenes = sorted((folder / "scenes").glob("*.yaml"))
+    assert scenes
+    for scene in scenes:
+        assert plausibility.implausible_values(yaml.safe_load(scene.read_text()), scene.name) == []

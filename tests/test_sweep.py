@@ -8,6 +8,7 @@ import copy
 import math
 import os
 import signal
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -18,10 +19,12 @@ from click.testing import CliRunner
 from scipy.stats import norm
 
 from bbmc.cli import main
+from bbmc.command_outcome import reported
 from bbmc.config import load_config
 from bbmc.slope import fos_cases as fc
 from bbmc.slope import toppling as tp
 from bbmc.stages import sweep as stage
+from bbmc.sweep.runner import run_batches
 
 ROOT = Path(__file__).resolve().parents[1]
 PLANAR = ROOT / "configs" / "sweeps" / "planar_block.yaml"
@@ -412,3 +415,22 @@ def test_an_invalid_realization_is_listed_with_its_seed():
     inputs = stage.Inputs([("blocks.0.rock_mass.seed", stage.design.marginal("realization"))], {}, {})
     rows = stage.invalid_rows(samples, stage.Outcomes.of(samples), inputs)
     assert rows.values.tolist() == [["invalid_sample.1.blocks", 22.0, "seed"]]
+
+
+def _warning_model(inputs: pd.DataFrame) -> pd.DataFrame:
+    """A model (at module level: a worker process unpickles it) that warns on every sample."""
+    for sample in inputs.index:
+        warnings.warn(f"sample {sample % 2} overflowed", RuntimeWarning, stacklevel=1)
+    return pd.DataFrame({"fs": np.ones(len(inputs))}, index=inputs.index)
+
+
+def test_warnings_raised_in_worker_processes_reach_the_command_one_line_each(tmp_path, capfd):
+    """Two workers, two batches, four warnings of two messages: the command shows each message once,
+    one line, as it shows its own; no worker writes to stderr itself."""
+    design = pd.DataFrame({"x": np.arange(4.0)}, index=pd.Index(range(4), name="sample"))
+    with reported("sweep"):
+        run_batches(_warning_model, design, tmp_path / "store", 2, workers=2)
+    assert sorted(capfd.readouterr().err.splitlines()) == [
+        "bbmc sweep: warning: RuntimeWarning: sample 0 overflowed",
+        "bbmc sweep: warning: RuntimeWarning: sample 1 overflowed",
+    ]

@@ -279,18 +279,28 @@ def load_config(path: str | Path, model: type[ModelT]) -> ModelT:
 
 
 def validate(
-    raw: object, model: type[ModelT], source: str, base_dir: Path = Path("."), strict: bool | None = None
+    raw: object,
+    model: type[ModelT],
+    source: str,
+    base_dir: Path = Path("."),
+    strict: bool | None = None,
+    typed: bool = True,
 ) -> ModelT:
     """Validate a parsed config (a mapping) against `model`; `source` names it in the one-line
     `ConfigError`; relative paths in it are taken from `base_dir`; `strict=False` lets a config that
     code builds pass numbers of other types (numpy's) where the model's types are strict. A valid
-    config's values outside their plausible range for rock are warned about
-    (`bbmc.plausibility.ImplausibleValue`)."""
+    typed config's values far beyond their plausible range for rock are refused (`ConfigError`), and
+    those outside it warned about (`bbmc.plausibility.ImplausibleValue`); `typed=False` (a config the
+    program built from numbers it computed, already checked or its own) checks neither."""
     if not isinstance(raw, dict):
         raise ConfigError(f"{source}: top level must be a mapping of keys, got {type(raw).__name__}")
     try:
         settings = model.model_validate(raw, strict=strict, context={"base_dir": base_dir})
     except ValidationError as exc:
         raise ConfigError(f"{source}: {_first_fault(model, exc.errors())}") from None
-    plausibility.warn(raw, source)
+    if typed:
+        refused = plausibility.refused_values(raw, source)
+        if refused:
+            raise ConfigError(refused[0])
+        plausibility.warn(raw, source)
     return settings

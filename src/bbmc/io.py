@@ -24,13 +24,17 @@ import pandas as pd
 from matplotlib.figure import Figure
 from pydantic import BaseModel
 
+from bbmc import plausibility
 from bbmc.config import ConfigError
 
 
 @dataclass(frozen=True)
 class Column:
     """What every cell of an input table's column must hold: a finite number from `low` to `high`
-    (either end excluded where `*_open`), or any text (`text`); a blank cell only where `blank`."""
+    (either end excluded where `*_open`), or any text (`text`); a blank cell only where `blank`.
+    `quantity`: a key of `bbmc.plausibility.RANGES` whose quantity the column holds, `scale` times
+    its number (or `scale` over it, where `reciprocal`) in the row's unit: a number far beyond that
+    range (`plausibility.beyond`) is refused, as in a config."""
 
     low: float = -math.inf
     high: float = math.inf
@@ -38,6 +42,9 @@ class Column:
     high_open: bool = False
     blank: bool = False
     text: bool = False
+    quantity: str | None = None
+    scale: float = 1.0
+    reciprocal: bool = False
 
     def holds(self, value: float) -> bool:
         above = value > self.low if self.low_open else value >= self.low
@@ -57,6 +64,23 @@ class Column:
 
     def or_blank(self) -> Column:
         return replace(self, blank=True)
+
+    def of(self, quantity: str, scale: float = 1.0, reciprocal: bool = False) -> Column:
+        """This column holding `quantity` (see the class)."""
+        return replace(self, quantity=quantity, scale=scale, reciprocal=reciprocal)
+
+    def refusal(self, value: float) -> str | None:
+        """Why a number within the column's range is still refused (far beyond its quantity's plausible
+        range), or None."""
+        if self.quantity is None:
+            return None
+        converted = self.scale / value if self.reciprocal else self.scale * value
+        problem = plausibility.beyond(self.quantity, converted)
+        if problem is None:
+            return None
+        unit = plausibility.unit_of(self.quantity)
+        shown = "" if converted == value else f" ({plausibility.number(converted)} {unit} as {self.quantity})"
+        return f"= {value:g}{shown} {problem}"
 
 
 NUMBER = Column()
@@ -145,6 +169,9 @@ def _cell(path: Path, line: int, name: str, raw: str, column: Column) -> float |
         raise ConfigError(f"{where}: not a finite number: {raw!r}")
     if not column.holds(value):
         raise ConfigError(f"{where} {column.rule}, got {value:g}")
+    refusal = column.refusal(value)
+    if refusal:
+        raise ConfigError(f"{where} {refusal}")
     return value
 
 

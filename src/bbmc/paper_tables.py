@@ -3,8 +3,10 @@ of their numbers, how many rows it has, and the printed constants by name.
 
 Every stage that reads a table reads it through `read`, so a number gets the same checks wherever it is
 read, as a config's numbers do: a finite number within the physical range of its quantity (> 0 for a
-stress, a stiffness, a density; 0-90 deg for a friction angle; 0-20 for JRC; 0-1 for R^2), a blank cell
-only where the paper leaves one. Any fault is one `ConfigError` line naming the file, line and column.
+stress, a stiffness, a density; 0-90 deg for a friction angle; 0-20 for JRC; 0-1 for R^2), not far
+beyond the plausible range of its quantity where it has one (`Column.of`: over 10^6 times its high end,
+as a config's number is refused; docs/plausible-ranges.md), a blank cell only where the paper leaves
+one. Any fault is one `ConfigError` line naming the file, line and column.
 """
 
 from __future__ import annotations
@@ -16,14 +18,23 @@ import pandas as pd
 from bbmc.config import ConfigError
 from bbmc.io import ANGLE_DEG, NON_NEGATIVE, NUMBER, POSITIVE, TEXT, Column, read_table, require_distinct
 
-JRC = Column(0.0, 20.0)
+JRC = Column(0.0, 20.0).of("jrc")
 R2 = Column(0.0, 1.0, low_open=True)
 EQUATION = Column(low=1.0)
+# A column of a physical quantity is also refused far beyond its plausible range (`Column.of`)
+STRESS = POSITIVE.of("sigma_n_MPa")
+SHEAR = POSITIVE.of("tau_MPa")
+KS = POSITIVE.of("ks_MPa_per_mm")  # 1 GPa/m = 1 MPa/mm
+KN = POSITIVE.of("kn_MPa_per_mm")
+DENSITY = POSITIVE.of("density_kg_m3")
+FRICTION = ANGLE_DEG.of("friction_deg")
+JOINT_COHESION_KPA = NON_NEGATIVE.of("cohesion_kPa")
+ROCK_COHESION_MPA = NON_NEGATIVE.of("intact_rock.cohesion_MPa")
 
 # table name -> (columns, rows: None for any number of rows)
 TABLES: dict[str, tuple[dict[str, Column], int | None]] = {
     "table1_measurements": (
-        {"sigma_n_MPa": POSITIVE, "tau_p_MPa": POSITIVE, "K_si_GPa_per_m": POSITIVE, "tau_ult_MPa": POSITIVE},
+        {"sigma_n_MPa": STRESS, "tau_p_MPa": SHEAR, "K_si_GPa_per_m": KS, "tau_ult_MPa": SHEAR},
         None,
     ),
     "table1_fits": (
@@ -31,46 +42,51 @@ TABLES: dict[str, tuple[dict[str, Column], int | None]] = {
         None,
     ),
     "fig2a_legends": (
-        {"sigma_n_kPa": POSITIVE, "slope_a": POSITIVE, "intercept_b": NUMBER, "R2": R2},
+        {
+            "sigma_n_kPa": POSITIVE.of("sigma_n_MPa", 1e-3),
+            "slope_a": POSITIVE.of("ks_MPa_per_mm", 1e-3, reciprocal=True),  # eq 1: K_si = 1/a [kPa/mm]
+            "intercept_b": NUMBER,
+            "R2": R2,
+        },
         None,
     ),
     "table2_rock": (
         {
-            "density_kg_per_m3": POSITIVE,
-            "cohesion_MPa": NON_NEGATIVE,
-            "friction_angle_deg": ANGLE_DEG,
-            "compressive_strength_MPa": POSITIVE,
+            "density_kg_per_m3": DENSITY,
+            "cohesion_MPa": ROCK_COHESION_MPA,
+            "friction_angle_deg": FRICTION,
+            "compressive_strength_MPa": POSITIVE.of("sigma_c_MPa"),
         },
         1,
     ),
     "table3_numerical_tests": (
         {
-            "sigma_n_MPa": POSITIVE,
-            "tau_MPa": POSITIVE,
-            "K_st_uncorrected_MPa_per_mm": NON_NEGATIVE,
-            "K_st_corrected_MPa_per_mm": POSITIVE,
-            "K_n_MPa_per_mm": POSITIVE,
-            "Phi_deg": ANGLE_DEG.or_blank(),  # printed once per normal stress
-            "C_kPa": NON_NEGATIVE.or_blank(),
+            "sigma_n_MPa": STRESS,
+            "tau_MPa": SHEAR,
+            "K_st_uncorrected_MPa_per_mm": NON_NEGATIVE.of("ks_MPa_per_mm"),
+            "K_st_corrected_MPa_per_mm": KS,
+            "K_n_MPa_per_mm": KN,
+            "Phi_deg": FRICTION.or_blank(),  # printed once per normal stress
+            "C_kPa": JOINT_COHESION_KPA.or_blank(),
             "d_h_test_mm": POSITIVE,
             "d_h_numerical_uncorrected_mm": POSITIVE,
             "d_h_numerical_corrected_mm": POSITIVE,
         },
         None,
     ),
-    "table4_rock_mass": ({"density_kg_per_m3": POSITIVE, "cohesion_MPa": NON_NEGATIVE}, 1),
+    "table4_rock_mass": ({"density_kg_per_m3": DENSITY, "cohesion_MPa": ROCK_COHESION_MPA}, 1),
     "table4_joints_constant": (
-        {"K_s_MPa_per_mm": POSITIVE, "K_n_MPa_per_mm": POSITIVE, "phi_deg": ANGLE_DEG, "c_kPa": NON_NEGATIVE},
+        {"K_s_MPa_per_mm": KS, "K_n_MPa_per_mm": KN, "phi_deg": FRICTION, "c_kPa": JOINT_COHESION_KPA},
         1,
     ),
     "table4_joints_nonlinear": (
         {
-            "K_st_coefficient_MPa_per_mm": POSITIVE,
+            "K_st_coefficient_MPa_per_mm": POSITIVE.of("kj_MPa_per_mm"),
             "K_st_exponent": POSITIVE,
             "K_n_coefficient_per_mm": POSITIVE,
-            "phi_b_deg": ANGLE_DEG,
+            "phi_b_deg": ANGLE_DEG.of("phi_b_deg"),
             "JRC": JRC,
-            "JCS_MPa": POSITIVE,
+            "JCS_MPa": POSITIVE.of("jcs_MPa"),
             "eq15_coefficient": POSITIVE,
         },
         1,
@@ -80,7 +96,7 @@ TABLES: dict[str, tuple[dict[str, Column], int | None]] = {
 
 # The printed constants every reader needs, by name (eq<equation>.<name>), with the range of each.
 CONSTANTS: dict[str, Column] = {
-    "eq4.K_j": POSITIVE,
+    "eq4.K_j": POSITIVE.of("kj_MPa_per_mm"),  # GPa/m at 1 MPa
     "eq4.n_j": POSITIVE,
     "eq4.tau_p_slope": POSITIVE,
     "eq4.tau_p_intercept": NUMBER,
@@ -93,7 +109,7 @@ CONSTANTS: dict[str, Column] = {
     "eq15.tangent_coefficient": POSITIVE,
     "eq16.correction_a": NUMBER,
     "eq16.correction_b": NUMBER,
-    "eq18.K_st_coefficient": POSITIVE,
+    "eq18.K_st_coefficient": POSITIVE.of("kj_MPa_per_mm"),
     "eq18.K_st_exponent": POSITIVE,
 }
 LEGEND_CURVES = ["sigma_n_kPa", "slope_a", "intercept_b"]  # Fig 2a's legends as eq 1's curves
@@ -138,6 +154,9 @@ def _check_constants(table: pd.DataFrame, path: Path) -> None:
             raise ConfigError(
                 f"{path}: line {row.Index}: column 'value' of '{key}' {column.rule}, got {row.value:g}"
             )
+        refusal = column.refusal(row.value) if column is not None else None
+        if refusal:
+            raise ConfigError(f"{path}: line {row.Index}: column 'value' of '{key}' {refusal}")
     missing = [key for key in CONSTANTS if key not in keys]
     if missing:
         raise ConfigError(f"{path}: no constant {', '.join(missing)} (column 'equation' and 'name')")

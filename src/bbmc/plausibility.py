@@ -5,9 +5,11 @@ A value outside its range is not refused: every config validated (`bbmc.config.v
 file a command loads) warns about it, an `ImplausibleValue` whose message is one line naming the file,
 the key, the range and, where converting from a likely wrong unit lands the value inside the range,
 that slip (`bbmc ... --strict` makes these warnings errors). The ranges are deliberately wider than
-the values of any real rock, so that a warning means a slip rather than an unusual rock. `RANGES` is
-the one table; docs/plausible-ranges.md shows it (`markdown_table`, checked by the tests) with its
-sources.
+the values of any real rock, so that a warning means a slip rather than an unusual rock. A value
+beyond `FAR` times its range (`beyond`), which no unit slip explains, is refused instead, in configs
+and in data files alike (`bbmc.io.read_table`). `RANGES` is the one table; docs/plausible-ranges.md
+shows it (`markdown_table`, checked by the tests) with its sources. Only typed input is checked:
+numbers the program computes (the scenes a stage builds) are not.
 
 Keys are matched by their name, whatever section holds them (the scene's `joint_laws.*.friction_deg`,
 a study's `base.strength.friction_deg`); a row given as `section.key` matches that key in that section
@@ -23,6 +25,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 G = 9.81  # [m/s^2] to turn densities into unit weights
+FAR = 1e6  # a value more than this many times beyond its range is refused (`beyond`)
 
 
 class ImplausibleValue(UserWarning):
@@ -49,13 +52,13 @@ class Range:
 
     @property
     def span(self) -> str:
-        return f"{_number(self.low)} to {_number(self.high)} {self.unit}".rstrip()
+        return f"{number(self.low)} to {number(self.high)} {self.unit}".rstrip()
 
     def matches(self, path: str) -> bool:
         return any(f".{path}".endswith(f".{key}") for key in self.keys)
 
 
-def _number(value: float) -> str:
+def number(value: float) -> str:
     """Three significant digits, without an exponent up to 10^6."""
     return f"{value:.3g}" if abs(value) < 1000 or abs(value) >= 1e6 else f"{value:.0f}"
 
@@ -104,11 +107,22 @@ RANGES: tuple[Range, ...] = (
         (KPA_AS_MPA, Slip("GPa typed as MPa", _scaled(1e3))),
     ),
     Range(
-        ("kn_MPa_per_mm", "ks_MPa_per_mm", "kj_MPa_per_mm"), 0.01, 1000, "MPa/mm",
-        "a rock joint's stiffness (1 MPa/mm = 1 GPa/m)",
-        "Itasca (3DEC manual, Joint Properties): from about 10 MPa/m for joints with a soft clay "
-        "filling to over 100 GPa/m for tight joints in granite and basalt (Bandis et al. 1983 among "
-        "its sources)",
+        ("ks_MPa_per_mm", "kj_MPa_per_mm"), 1e-5, 1000, "MPa/mm",
+        "a rock joint's shear stiffness (1 MPa/mm = 1 GPa/m)",
+        "Barton (1982), Barton, Bandis & Bakhtar (1985): K_s = (100/L) tau_p falls as 1/L with the block "
+        "length L [m]: about tau_p per mm for a 0.1 m lab sample, 1000 times less for a 100 m block; "
+        "0.00001 MPa/mm is a 100 m block at tau_p = 0.01 MPa (half a metre of rock above); the top as "
+        "K_n's",
+        (Slip("MPa/m (or kPa/mm) typed as MPa/mm", _scaled(1e-3)),
+         Slip("GPa/mm typed as MPa/mm", _scaled(1e3))),
+    ),
+    Range(
+        ("kn_MPa_per_mm",), 0.001, 1000, "MPa/mm",
+        "a rock joint's normal stiffness (1 MPa/mm = 1 GPa/m)",
+        "Goodman (1989, ch. 5): joints s apart in rock of modulus E_r make a mass of modulus E_m with "
+        "1/E_m = 1/E_r + 1/(K_n s), so K_n > E_m / s: 0.002 MPa/mm for the weakest masses (E_m = 0.1 "
+        "GPa) jointed 50 m apart; Itasca (3DEC manual, Joint Properties): over 100 GPa/m for tight "
+        "joints in granite and basalt (Bandis et al. 1983 among its sources)",
         (Slip("MPa/m (or kPa/mm) typed as MPa/mm", _scaled(1e-3)),
          Slip("GPa/mm typed as MPa/mm", _scaled(1e3))),
     ),
@@ -226,6 +240,12 @@ def _row(path: str) -> Range | None:
     return next((row for row in RANGES if row.matches(path)), None)
 
 
+def unit_of(path: str) -> str:
+    """The unit of the row for a dotted key ('' for none)."""
+    row = _row(path)
+    return row.unit if row is not None else ""
+
+
 def verdict(path: str, value: float) -> str | None:
     """What is wrong with `value` at the dotted key `path`, or None if it is plausible (or unchecked)."""
     row = _row(path)
@@ -236,7 +256,7 @@ def verdict(path: str, value: float) -> str | None:
     for slip in row.slips:
         converted = slip.value(value)
         if row.low <= converted <= row.high:
-            return f"{line}: {slip.label}? ({_number(converted)}{unit} if so)"
+            return f"{line}: {slip.label}? ({number(converted)}{unit} if so)"
     return line
 
 
@@ -266,14 +286,39 @@ def _numbers(
         yield ".".join(k for k in keys if not k.isdigit()), f"'{shown}'{note}", float(tree)
 
 
-def implausible_values(tree: object, source: str) -> list[str]:
-    """One line per implausible number of a parsed config: `<source>: key '<path>' = <value> ...`."""
+def beyond(path: str, value: float) -> str | None:
+    """Why `value` at the dotted key `path` is refused, or None: above `FAR` times the high end of its
+    range (below `FAR` times a negative low end), or positive and below a positive low end over `FAR`.
+    0 or a negative number under a positive low end is no slip of magnitude (a frictionless joint is
+    a model's choice): it is left to the key's own checks, and warned about."""
+    row = _row(path)
+    if row is None:
+        return None
+    above = (row.high > 0 and value > FAR * row.high) or (row.low < 0 and value < FAR * row.low)
+    below = row.low > 0 and 0 < value < row.low / FAR
+    if not (above or below):
+        return None
+    return f"is more than a factor of 10^6 outside {row.span} for {row.what}: no unit slip explains it"
+
+
+def _lines(tree: object, source: str, judge: Callable[[str, float], str | None]) -> list[str]:
+    """One line per number of a parsed config that `judge` finds fault with."""
     lines = []
     for path, shown, value in _numbers(tree, (), ""):
-        problem = verdict(path, value)
+        problem = judge(path, value)
         if problem:
             lines.append(f"{source}: key {shown} = {value:g} {problem}")
     return lines
+
+
+def implausible_values(tree: object, source: str) -> list[str]:
+    """One line per implausible number of a parsed config: `<source>: key '<path>' = <value> ...`."""
+    return _lines(tree, source, verdict)
+
+
+def refused_values(tree: object, source: str) -> list[str]:
+    """One line per number of a parsed config that is refused (`beyond`), in the same form."""
+    return _lines(tree, source, beyond)
 
 
 def warn(tree: object, source: str) -> None:

@@ -187,8 +187,10 @@ def _edge_index(vertices: np.ndarray, edge: str | int, path: Path, key: str) -> 
 
 def built_scene(tree: dict, name: str) -> Model:
     """A scene that code builds (a mapping in the scene format) checked and built as a scene file is: a
-    fault is one `ConfigError` line naming `name` and the key."""
-    return build_model(validate(tree, Scene, name, strict=False), Path(name))
+    fault is one `ConfigError` line naming `name` and the key. Its numbers are the program's (computed,
+    or taken from inputs checked when they were read), so they are not judged as typed input
+    (`bbmc.plausibility`)."""
+    return build_model(validate(tree, Scene, name, strict=False, typed=False), Path(name))
 
 
 def build_model(scene: Scene, path: Path) -> Model:

@@ -41,7 +41,6 @@ from pathlib import Path
 import pandas as pd
 from pydantic import BaseModel
 
-from bbmc import plausibility
 from bbmc.config import ConfigError, read_yaml, validate
 from bbmc.dem.model import build_model
 from bbmc.dem.monitors import column_name
@@ -105,9 +104,7 @@ def _scene_tree(config: Config) -> dict:
     """The base scene: the scene file, or the paper's slope built by `bbmc.slope.safety`."""
     base = config.base
     if base.scene is not None:
-        tree = read_yaml(base.scene)
-        plausibility.warn(tree, str(base.scene))
-        return tree
+        return read_yaml(base.scene)
     return safety.reduction_scene(*load_paper_slope(base.slope_config), base.joint_model)
 
 
@@ -126,7 +123,8 @@ def check_scene(config: Config, config_path: Path, tree: dict) -> None:
     key), and a `scene_run` monitor one of the history's columns (ConfigError naming 'base.monitor')."""
     base = config.base
     source = Path(base.scene or base.slope_config)
-    model = build_model(validate(tree, Scene, str(source), source.parent), source)
+    typed = base.scene is not None  # else the paper's slope, built from a config already checked
+    model = build_model(validate(tree, Scene, str(source), source.parent, typed=typed), source)
     if base.kind == "scene_run":
         columns = ["step", "time_s", *(column_name(spec) for spec in model.monitors)]
         if base.monitor not in columns:

@@ -13,6 +13,10 @@ finished batch on disk.
   thread (`bbmc.dem.kernels.limit_threads`; so do a cluster's workers). On a cluster (`scheduler` given):
   `distributed.Client(scheduler)`; a worker lost mid-task has its task rerun elsewhere by the
   scheduler, and each batch is written once, by this process, when its result arrives.
+* The warnings a batch raises (numpy's overflow from an extreme sample, say) come back with its result,
+  each once, and are raised again in this process, where the command shows them one line each: a
+  worker has no terminal of its own to show them on, and a forked one inherits the command's way of
+  showing them, which keeps them in the worker.
 * Ctrl-C (or SIGINT to this process alone) stops the study at once with `StudyInterrupted`, which says
   how many samples are done and kept. Locally, the workers ignore SIGINT (a terminal sends it to the
   whole process group: a worker acting on it would print its own traceback), and this process ends
@@ -30,6 +34,7 @@ import multiprocessing
 import os
 import signal
 import time
+import warnings
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from contextlib import closing
@@ -41,6 +46,7 @@ from bbmc.dem.kernels import limit_threads
 from bbmc.dem.pace import stopped_when
 
 Model = Callable[[pd.DataFrame], pd.DataFrame]
+Caught = list[tuple[type[Warning], str]]  # (category, message) of each warning a batch raised, once
 
 
 def batch_path(store: Path, first: int) -> Path:
@@ -51,9 +57,13 @@ def batches(design: pd.DataFrame, size: int) -> list[pd.DataFrame]:
     return [design.iloc[k : k + size] for k in range(0, len(design), size)]
 
 
-def evaluate(model: Model, inputs: pd.DataFrame) -> pd.DataFrame:
-    """One task: the batch's inputs beside the model's outputs, sample by sample."""
-    return pd.concat([inputs, model(inputs)], axis=1)
+def evaluate(model: Model, inputs: pd.DataFrame) -> tuple[pd.DataFrame, Caught]:
+    """One task: the batch's inputs beside the model's outputs, sample by sample, and the warnings its
+    run raised, each once (for the process that runs the study to raise again)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        table = pd.concat([inputs, model(inputs)], axis=1)
+    return table, list(dict.fromkeys((w.category, str(w.message)) for w in caught))
 
 
 class StudyInterrupted(KeyboardInterrupt):
@@ -122,7 +132,9 @@ class _KeptProcesses:
             process.join()
 
 
-def _local(model: Model, pending: list[pd.DataFrame], workers: int) -> Iterator[tuple[int, pd.DataFrame]]:
+def _local(
+    model: Model, pending: list[pd.DataFrame], workers: int
+) -> Iterator[tuple[int, tuple[pd.DataFrame, Caught]]]:
     processes = _KeptProcesses()
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=processes, initializer=_start_worker)
     try:
@@ -138,7 +150,7 @@ def _local(model: Model, pending: list[pd.DataFrame], workers: int) -> Iterator[
     pool.shutdown()
 
 
-def _evaluate_on_worker(model: Model, inputs: pd.DataFrame) -> pd.DataFrame:
+def _evaluate_on_worker(model: Model, inputs: pd.DataFrame) -> tuple[pd.DataFrame, Caught]:
     """One task on a dask worker: `evaluate`, ended at its next kernel call once the task is cancelled
     (its client interrupted: the worker marks the task cancelled, or forgets it)."""
     from distributed import get_worker
@@ -157,7 +169,7 @@ def _evaluate_on_worker(model: Model, inputs: pd.DataFrame) -> pd.DataFrame:
 
 def _cluster(
     model: Model, pending: list[pd.DataFrame], scheduler: str, store: Path
-) -> Iterator[tuple[int, pd.DataFrame]]:
+) -> Iterator[tuple[int, tuple[pd.DataFrame, Caught]]]:
     from distributed import Client, as_completed  # here: a local study needs no dask
 
     with Client(scheduler) as client:
@@ -203,8 +215,10 @@ def run_batches(
         )
         try:
             with closing(results):  # an interrupt while writing a batch still ends the workers at once
-                for first, table in results:
+                for first, (table, caught) in results:
                     _write(store, first, table)
+                    for category, message in caught:
+                        warnings.warn(message, category, stacklevel=2)
                     progress.add(len(table))
         except KeyboardInterrupt:
             raise StudyInterrupted(
