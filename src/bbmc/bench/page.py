@@ -39,12 +39,14 @@ class PageError(Exception):
 
 @dataclass(frozen=True)
 class Run:
-    """One bench run's folder: its tables by name (CSV stem), its provenance and its machine."""
+    """One bench run's folder: its tables by name (CSV stem), as numbers and as the text the CSV holds,
+    its provenance and its machine."""
 
     folder: Path
     tables: dict[str, pd.DataFrame]
     provenance: dict
     machine: dict[str, str]
+    texts: dict[str, pd.DataFrame]
 
 
 def number(value: object) -> str:
@@ -56,7 +58,7 @@ def number(value: object) -> str:
     if isinstance(value, int | np.integer):
         return f"{value:,}"
     if not isinstance(value, float | np.floating):
-        return "—" if value is None else str(value).replace("|", "\\|")
+        return "—" if value is None or value == "" else str(value).replace("|", "\\|")
     if math.isnan(value):
         return "—"
     if math.isinf(value):
@@ -97,8 +99,10 @@ def load_run(folder: Path) -> Run:
         machine = dict(zip(facts["key"], facts["value"], strict=True))
     except (OSError, ValueError, KeyError) as error:
         raise PageError(f"{folder / 'machine.csv'}: cannot be read ({error.__class__.__name__})") from None
-    tables = {p.stem: pd.read_csv(p) for p in sorted(folder.glob("*.csv")) if p.stem != "machine"}
-    return Run(folder, tables, provenance, machine)
+    files = [p for p in sorted(folder.glob("*.csv")) if p.stem != "machine"]
+    tables = {p.stem: pd.read_csv(p) for p in files}
+    texts = {p.stem: pd.read_csv(p, dtype=str, keep_default_na=False) for p in files}
+    return Run(folder, tables, provenance, machine, texts)
 
 
 def _seconds(text: str) -> str:
@@ -144,7 +148,7 @@ def _setting(value: object) -> str:
         return ", ".join(_setting(v) for v in value)
     if isinstance(value, dict):
         return ", ".join(f"{k} {_setting(v)}" for k, v in value.items() if v is not None)
-    return number(value)
+    return f"{value:,}" if isinstance(value, int) else str(value)
 
 
 class _Missing(dict):
@@ -166,6 +170,7 @@ def section_text(section: Section, run: Run) -> str:
         frame = run.tables.get(table.csv)
         if frame is None:
             continue
+        frame = frame.assign(**{c: run.texts[table.csv][c] for c in table.verbatim if c in frame.columns})
         if table.where is not None:
             column, wanted = table.where
             frame = frame[frame[column] == wanted] if column in frame.columns else frame.iloc[:0]

@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 @dataclass(frozen=True)
 class Table:
     """Rows of one CSV (those where `where`'s column equals its value, `present`'s is given and
-    `absent`'s is not), shown under `columns` (those the CSV has)."""
+    `absent`'s is not), shown under `columns` (those the CSV has); `verbatim` columns (settings, not
+    measurements) as the CSV writes them, not rounded."""
 
     csv: str
     caption: str
@@ -20,6 +21,7 @@ class Table:
     where: tuple[str, object] | None = None
     present: str | None = None
     absent: str | None = None
+    verbatim: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -77,6 +79,7 @@ the error against the time with the Pareto front, `tradeoff_readings.csv` has ev
                 "tradeoff",
                 "Each knob's error and time",
                 ["scene", "knob", "value", "relative_error", "time_over_default", "seconds", "status"],
+                verbatim=("value",),
             ),
             Table(
                 "recommended",
@@ -93,6 +96,7 @@ the error against the time with the Pareto front, `tradeoff_readings.csv` has ev
                     "measurably_faster",
                     "recommended",
                 ],
+                verbatim=("target_error", "fastest_within_target", "recommended"),
             ),
         ],
     ),
@@ -300,9 +304,10 @@ run compiled, so the Python column flatters plain Python for the composite laws)
         "rockmass",
         "Rock masses",
         """
-A benched slope cut by three joint sets into a rock mass (spacing scale {spacing_scale}: about 10,000
-blocks at 1): its generation time, best of {repeats}, and the engine's time per step over {steps}
-steps with its bridges and cuts as intact rock against the same geometry with plain joints.
+A benched slope cut by three joint sets into a rock mass (its joint spacings times {spacing_scale}; at
+their own spacings, about 10,000 blocks): its generation time, best of {repeats}, and the engine's
+time per step over {steps} steps with its bridges and cuts as intact rock against the same geometry
+with plain joints.
 """,
         [Table("rockmass_cost", "Generation and the cost of bridges", ["quantity", "value", "unit"])],
     ),
