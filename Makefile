@@ -64,8 +64,11 @@ FUZZ_EXAMPLES ?= 1000
 fuzz: $(STAMP)
 	BBMC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz.py --hypothesis-show-statistics
 
+# docs/benchmarks.md is written from the run's folder (bbmc.bench.page); the page it replaces goes to
+# docs/benchmarks-history.md.
 bench: $(STAMP)
 	$(BIN)/bbmc bench --config configs/bench.yaml
+	$(BIN)/python -m bbmc.bench.page results/bench docs/benchmarks.md
 
 # The user guide: installs the docs extra (MkDocs Material, mkdocstrings) into the venv and builds
 # docs/ into site/; strict, so a broken link, a page missing from the nav or a bad docstring fails it.

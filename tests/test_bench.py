@@ -184,7 +184,7 @@ def test_a_section_left_out_of_the_config_is_skipped_with_one_line_saying_so(tmp
     assert len(skipped) == len(SECTIONS) - 1
     for name in (s for s in SECTIONS if s != "laws"):
         assert sum(f"section '{name}' is not in the config" in line for line in skipped) == 1
-    assert {p.name for p in out.iterdir()} == {"laws.csv", "provenance.json"}
+    assert {p.name for p in out.iterdir()} == {"laws.csv", "machine.csv", "provenance.json"}
     assert len(pd.read_csv(out / "laws.csv")) == 4
 
 
@@ -193,7 +193,7 @@ def test_only_runs_the_sections_it_names(tmp_path):
     outcome, out = _bench(tmp_path, {"laws": LAWS, "mobilized": mobilized}, "--only", "laws")
     assert outcome.exit_code == 0, outcome.output
     assert "skipped" not in outcome.stderr
-    assert {p.name for p in out.iterdir()} == {"laws.csv", "provenance.json"}
+    assert {p.name for p in out.iterdir()} == {"laws.csv", "machine.csv", "provenance.json"}
     assert json.loads((out / "provenance.json").read_text())["only"] == ["laws"]
 
 

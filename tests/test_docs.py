@@ -210,6 +210,13 @@ def test_the_readme_is_a_front_page():
     assert not re.search(r"\bissue \d+", text, re.I)
 
 
+def test_the_readme_links_every_tutorial():
+    linked = set(re.findall(r"\]\((docs/tutorials/[^)#\s]+\.md)", README.read_text(encoding="utf-8")))
+    tutorials = {str(p.relative_to(ROOT)) for p in (DOCS / "tutorials").glob("*.md")}
+    assert tutorials, "no tutorial found"
+    assert tutorials <= linked, f"not linked from README.md: {sorted(tutorials - linked)}"
+
+
 # ---------------------------------------------------------------------------------------------------
 # (b) links, files, modules and keys
 

@@ -22,6 +22,9 @@ support_cost.csv: where a scene has no support, this engine's time per step agai
 before support elements; and the design search of a scene's `design:` section, its trials and wall
 time (`bbmc.bench.support_cost`).
 
+machine.csv: the processor, its cores, the memory, the Python, numpy and numba versions, the run's start
+and end (UTC) and each section's wall time (`bbmc.bench.machine`).
+
 laws.csv: for each law, evaluations per second as a numpy ufunc over an array, inside an njit kernel
 loop, and as the plain Python source in a Python loop (its calls to other laws still run compiled, so
 the python column flatters plain Python for the composite laws), plus the ratios between them.
@@ -50,6 +53,7 @@ from bbmc.bench.bandwidth import bandwidth_table, limit_table, slope_counts
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.fos_cost import fos_cost_table
+from bbmc.bench.machine import machine_table, now_utc
 from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
 from bbmc.bench.rockmass_cost import bridge_cost, rockmass_cost
@@ -448,8 +452,12 @@ def run(
             if name not in sections:
                 progress(f"section '{name}' is not in the config: skipped")
     tables, figures, scenes = {}, {}, PaperScenes(config)
+    started, seconds = now_utc(), {}
     for name in sections:
+        start = time.perf_counter()
         part_tables, part_figures = PARTS[name](config, scenes, progress)
+        seconds[name] = time.perf_counter() - start
         tables |= part_tables
         figures |= part_figures
+    tables["machine"] = machine_table(started, now_utc(), seconds)
     return StageResult(tables=tables, figures=figures)
