@@ -34,6 +34,18 @@ class Section:
     tables: list[Table] = field(default_factory=list)
 
 
+# the columns of a table timing this engine per step against an earlier commit (engine_cost, support_cost)
+PER_STEP_AGAINST_A_COMMIT = [
+    "scene",
+    "blocks",
+    "seconds_per_step_now",
+    "seconds_per_step_then",
+    "now_over_then",
+    "now_over_then_paired_min",
+    "now_over_then_paired_max",
+]
+
+
 INTRO = """
 # Benchmarks
 
@@ -172,13 +184,7 @@ paired in order.
                 "engine_cost",
                 "This engine against the earlier one",
                 [
-                    "scene",
-                    "blocks",
-                    "seconds_per_step_now",
-                    "seconds_per_step_then",
-                    "now_over_then",
-                    "now_over_then_paired_min",
-                    "now_over_then_paired_max",
+                    *PER_STEP_AGAINST_A_COMMIT,
                     "sub_contact_updates_per_s_now",
                     "sub_contact_updates_per_s_then",
                     "skipped",
@@ -357,13 +363,7 @@ strength reduction that confirms the design), best of {repeats}.
                 "support_cost",
                 "This engine against the one before support",
                 [
-                    "scene",
-                    "blocks",
-                    "seconds_per_step_now",
-                    "seconds_per_step_then",
-                    "now_over_then",
-                    "now_over_then_paired_min",
-                    "now_over_then_paired_max",
+                    *PER_STEP_AGAINST_A_COMMIT,
                     "skipped",
                 ],
                 absent="design_value",
