@@ -9,7 +9,6 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -112,14 +111,12 @@ class Model:
         held = (self.dof == L.PRESCRIBED) & (self.blocks[:, [L.VPX, L.VPY, L.VPW]] == 0.0)
         return np.all(held, axis=1)
 
-    # Read between every chunk of cycles: computed once (a model's laws, loads and prescribed
-    # velocities are not changed in place; `dataclasses.replace` makes a new model).
-    @cached_property
+    @property
     def has_bridges(self) -> bool:
         """True when a joint law breaks into another (intact rock: `joint_state.break_bridges`)."""
         return bool(np.any(self.laws[:, L.BREAKS_INTO] >= 0))
 
-    @cached_property
+    @property
     def variable_laws(self) -> bool:
         return bool(np.any(self.laws[:, :3] != 0))
 
@@ -136,7 +133,7 @@ class Model:
             and (self.params[j, L.P_COH] > 0 or self.laws[j, L.STRENGTH_LAW] == L.STRENGTH_BARTON_BANDIS)
         ]
 
-    @cached_property
+    @property
     def loads_applied_step(self) -> int:
         """The step from which every load acts in full and every prescribed velocity has started."""
         ends = [row[-2] + row[-1] for row in (*self.block_loads, *self.edge_loads)]

@@ -382,12 +382,9 @@ def simulate(
         on_record(state)
     stopped_by = ""
     trend = Watch.of(model, state)
-    energy_before = mon.kinetic_energy(state.blocks)
     while state.step < solver.steps and not stopped_by:
-        before, chunk = state.step, min(every - state.step % every, solver.steps - state.step)
-        if before + chunk == solver.steps:  # the last interval: `unsettled` compares with its start
-            energy_before = mon.kinetic_energy(state.blocks)
-        advance(model, state, chunk)
+        before, energy_before = state.step, mon.kinetic_energy(state.blocks)
+        advance(model, state, min(every - state.step % every, solver.steps - state.step))
         if progress:
             progress(state.step - before)  # a displacement stop can end a chunk early
         _check_overlap(model, state, warnings)
