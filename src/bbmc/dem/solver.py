@@ -382,9 +382,12 @@ def simulate(
         on_record(state)
     stopped_by = ""
     trend = Watch.of(model, state)
+    energy_before = math.nan
     while state.step < solver.steps and not stopped_by:
-        before, energy_before = state.step, mon.kinetic_energy(state.blocks)
-        advance(model, state, min(every - state.step % every, solver.steps - state.step))
+        before, chunk = state.step, min(every - state.step % every, solver.steps - state.step)
+        if before + chunk == solver.steps:  # only the last chunk's energy is read (`unsettled`)
+            energy_before = mon.kinetic_energy(state.blocks)
+        advance(model, state, chunk)
         if progress:
             progress(state.step - before)  # a displacement stop can end a chunk early
         _check_overlap(model, state, warnings)
