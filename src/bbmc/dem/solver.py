@@ -179,6 +179,8 @@ def _has_loads(model: Model) -> bool:
 def _check_health(model: Model, state: State) -> None:
     """Stop a run that has gone unstable: non-finite state, or a block running away in one step."""
     b, dt = state.blocks, state.clock[L.DT]
+    if motion.first_runaway(b, dt, RUNAWAY_FRACTION) < 0:
+        return
     finite = np.all(np.isfinite(b[:, [L.X, L.Y, L.TH, L.VX, L.VY, L.W]]), axis=1)
     travel = (np.hypot(b[:, L.VX], b[:, L.VY]) + np.abs(b[:, L.W]) * b[:, L.RADIUS]) * dt / b[:, L.SIZE]
     bad = ~finite | (travel > RUNAWAY_FRACTION)
