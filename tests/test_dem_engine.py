@@ -15,6 +15,7 @@ from bbmc.cli import main
 from bbmc.dem import joint_state
 from bbmc.dem import layout as L
 from bbmc.dem.detection import candidate_pairs
+from bbmc.dem.motion import first_runaway
 from bbmc.dem.solver import (
     SimulationError,
     _check_health,
@@ -168,6 +169,24 @@ def test_runaway_block_is_reported_with_the_step_and_the_cause(tmp_path):
     state.blocks[1, L.VX] = math.nan
     with pytest.raises(SimulationError, match="non-finite"):
         _check_health(model, state)
+
+
+def test_first_runaway_is_the_first_block_the_numpy_check_finds():
+    """The one-pass health check finds the block the plain numpy definition does: a non-finite
+    position (not only a velocity) or a travel (|v| + |w| R) dt / size above the fraction."""
+    rng = np.random.default_rng(7)
+    blocks = np.zeros((6, L.BLOCK_COLUMNS))
+    blocks[:, [L.VX, L.VY, L.W]] = rng.normal(0.0, 1.0, (6, 3))
+    blocks[:, L.RADIUS], blocks[:, L.SIZE] = 0.5, 1.0
+    dt, fraction = 1e-3, 0.1
+    assert first_runaway(blocks, dt, fraction) == -1
+    for column, value, block in ((L.TH, math.inf, 4), (L.Y, math.nan, 2), (L.VX, 1e3, 1)):
+        blocks[block, column] = value
+        b = blocks
+        finite = np.all(np.isfinite(b[:, [L.X, L.Y, L.TH, L.VX, L.VY, L.W]]), axis=1)
+        travel = (np.hypot(b[:, L.VX], b[:, L.VY]) + np.abs(b[:, L.W]) * b[:, L.RADIUS]) * dt / b[:, L.SIZE]
+        bad = ~finite | (travel > fraction)
+        assert first_runaway(blocks, dt, fraction) == int(np.argmax(bad)) == block
 
 
 def test_interpenetration_beyond_the_limit_is_reported(tmp_path):

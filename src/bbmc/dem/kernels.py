@@ -164,9 +164,10 @@ def cycle(
             load_edge,
             clock[STEP],
         )
-        add_water_loads(
-            blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight, dry_edges
-        )
+        if water_unit_weight != 0.0:  # a call passes its arrays' references: 0.1 us a step on the shear box
+            add_water_loads(
+                blocks, world, vertex_start, vertex_next, moving, water_surface, water_unit_weight, dry_edges
+            )
         if support.shape[0]:
             support_forces(blocks, support_blocks, support, support_divisor)
         contact_forces(

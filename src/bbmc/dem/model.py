@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -111,12 +112,14 @@ class Model:
         held = (self.dof == L.PRESCRIBED) & (self.blocks[:, [L.VPX, L.VPY, L.VPW]] == 0.0)
         return np.all(held, axis=1)
 
-    @property
+    @cached_property
     def has_bridges(self) -> bool:
-        """True when a joint law breaks into another (intact rock: `joint_state.break_bridges`)."""
+        """True when a joint law breaks into another (intact rock: `joint_state.break_bridges`). Kept once
+        read, as `variable_laws`: the run loop asks at every kernel call, and a model's laws are not
+        changed in place (a strength-reduction trial is a new model)."""
         return bool(np.any(self.laws[:, L.BREAKS_INTO] >= 0))
 
-    @property
+    @cached_property
     def variable_laws(self) -> bool:
         return bool(np.any(self.laws[:, :3] != 0))
 

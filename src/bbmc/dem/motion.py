@@ -23,6 +23,7 @@ from bbmc.dem.layout import (
     PVY,
     PW,
     RADIUS,
+    SIZE,
     TH,
     THR,
     VPW,
@@ -168,3 +169,19 @@ def move_blocks(
             largest = max(largest, move_block(blocks, dof, damping, dt, step, i))
             block_vertices(blocks, vertex_start, local, world, i)
     return largest
+
+
+@numba.njit(cache=True)
+def first_runaway(blocks, dt, fraction):
+    """The first block with a non-finite position or velocity, or whose travel in one step,
+    (|v| + |w| R) dt / size [1] (R its radius, size its size [m]), is above `fraction`; -1 if none.
+    The run loop's health check between kernel calls, in one pass (plain numpy took 18 us a call on
+    the shear box, a kernel call there being 250 steps of 0.5 us)."""
+    for i in range(blocks.shape[0]):
+        finite = True
+        for column in (X, Y, TH, VX, VY, W):
+            finite = finite and math.isfinite(blocks[i, column])
+        travel = (math.hypot(blocks[i, VX], blocks[i, VY]) + abs(blocks[i, W]) * blocks[i, RADIUS]) * dt
+        if not finite or travel / blocks[i, SIZE] > fraction:
+            return i
+    return -1

@@ -179,6 +179,8 @@ def _has_loads(model: Model) -> bool:
 def _check_health(model: Model, state: State) -> None:
     """Stop a run that has gone unstable: non-finite state, or a block running away in one step."""
     b, dt = state.blocks, state.clock[L.DT]
+    if motion.first_runaway(b, dt, RUNAWAY_FRACTION) < 0:
+        return
     finite = np.all(np.isfinite(b[:, [L.X, L.Y, L.TH, L.VX, L.VY, L.W]]), axis=1)
     travel = (np.hypot(b[:, L.VX], b[:, L.VY]) + np.abs(b[:, L.W]) * b[:, L.RADIUS]) * dt / b[:, L.SIZE]
     bad = ~finite | (travel > RUNAWAY_FRACTION)
@@ -382,9 +384,12 @@ def simulate(
         on_record(state)
     stopped_by = ""
     trend = Watch.of(model, state)
+    energy_before = math.nan
     while state.step < solver.steps and not stopped_by:
-        before, energy_before = state.step, mon.kinetic_energy(state.blocks)
-        advance(model, state, min(every - state.step % every, solver.steps - state.step))
+        before, chunk = state.step, min(every - state.step % every, solver.steps - state.step)
+        if before + chunk == solver.steps:  # only the last chunk's energy is read (`unsettled`)
+            energy_before = mon.kinetic_energy(state.blocks)
+        advance(model, state, chunk)
         if progress:
             progress(state.step - before)  # a displacement stop can end a chunk early
         _check_overlap(model, state, warnings)
