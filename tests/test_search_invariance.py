@@ -11,6 +11,7 @@ gave FS 0.426 against 1.090.
 from __future__ import annotations
 
 import copy
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +25,7 @@ from hypothesis import strategies as st
 from bbmc import api
 from bbmc.cli import main
 from bbmc.dem import layout as L
-from bbmc.dem.contact_search import search_contacts
+from bbmc.dem.contact_search import _kept_then_zeros, search_contacts
 from bbmc.dem.model import build_model
 from bbmc.dem.solver import advance, prepare
 
@@ -169,3 +170,18 @@ def test_the_factor_of_safety_does_not_move_with_the_search_margin():
     tiny = api.factor_of_safety(_scene(margin=1e-4))
     tolerance = api.load_scene(scene).fos.tolerance
     assert abs(tiny.factor_of_safety - default.factor_of_safety) <= tolerance
+
+
+def test_search_keeps_rows_without_a_third_copy():
+    """The rows a search keeps are gathered straight into the new array: the allocation peak is that
+    array alone (indexing then concatenating held the kept rows twice: 2 x the array)."""
+    rows = np.random.default_rng(3).random((200_000, L.SUB_COLUMNS))
+    kept = np.flatnonzero(np.arange(len(rows)) % 50 != 7)
+    tracemalloc.start()
+    try:
+        gathered = _kept_then_zeros(rows, kept, 1_000)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert np.array_equal(gathered, np.concatenate([rows[kept], np.zeros((1_000, L.SUB_COLUMNS))]))
+    assert peak < 1.1 * gathered.nbytes

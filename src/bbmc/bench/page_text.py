@@ -143,7 +143,8 @@ The slope of `configs/slope.yaml` cut into more blocks by finer joint spacings (
 each size and thread count ({threads}) in a fresh process, {steps} steps from the same state at rest,
 best of {repeats}. `growth_exponent_vs_previous` is log(t / t_prev) / log(N / N_prev) of the time
 per step (1 is linear); `cost_over_NlogN_relative` is (t / (N ln N)) over the same for the smallest
-size; peak memory is the process's high-water mark (`VmHWM`) above a bare process that imported bbmc;
+size; peak memory is the process's high-water mark (`VmHWM`) above a bare process that imported bbmc,
+one run's (each repeat's state is released before the next is prepared);
 `speedup_vs_first_threads` is the time per step on the first thread count over this row's. A size
 whose estimated peak is above {memory_limit_GB} GB is skipped, with the reason. `scaling.png` plots
 both thread counts.

@@ -37,6 +37,7 @@ import pandas as pd
 from bbmc.dem import layout as L
 from bbmc.dem.model import build_model
 from bbmc.dem.solver import advance, prepare
+from bbmc.dem.state import State
 from bbmc.geometry import polygons
 from bbmc.scene.schema import JointedSlope, Scene
 from bbmc.slope import model as sm
@@ -145,26 +146,36 @@ def measure_here(
         done = time.perf_counter()
         best_search, best_cycles = min(best_search, searched - start), min(best_cycles, done - searched)
         timed, runs = timed + done - searched, runs + 1
+        run = _run_counts(state)
+        del state  # a run holds one state: the next `prepare` must not build its own beside this one
     return {
         "blocks_asked": blocks,
         "blocks": len(model.block_names),
-        "threads": state.threads,
         "free_blocks": int(np.sum(~np.all(model.dof == L.PRESCRIBED, axis=1))),
         "spacing_scale": spacing_scale(blocks, slope_config),
-        "contacts": len(state.contacts),
-        "sub_contacts": len(state.subs),
-        "active_sub_contacts": int(np.sum(state.subs[:, L.LENGTH] > 0)),
+        **run,
         "steps": steps,
         "timed_runs": runs,
-        "time_step_s": float(state.dt_range[0]),
-        "contact_searches_during_cycles": state.searches - 1,
         "generation_and_build_s": build_s,
         "initial_search_s": best_search,
         "cycles_s": best_cycles,
         "seconds_per_step": best_cycles / steps,
-        "sub_contact_updates_per_s": len(state.subs) * steps / best_cycles,
+        "sub_contact_updates_per_s": run["sub_contacts"] * steps / best_cycles,
         "peak_rss_after_build_MB": peak_after_build / MB,
         "peak_rss_MB": _peak_rss_bytes() / MB,
+    }
+
+
+def _run_counts(state: State) -> dict:
+    """What a run's state at its end tells the table: threads, contacts, sub-contacts (and those with a
+    length), the smallest time step [s] and the contact searches after step 0."""
+    return {
+        "threads": state.threads,
+        "contacts": len(state.contacts),
+        "sub_contacts": len(state.subs),
+        "active_sub_contacts": int(np.sum(state.subs[:, L.LENGTH] > 0)),
+        "time_step_s": float(state.dt_range[0]),
+        "contact_searches_during_cycles": state.searches - 1,
     }
 
 

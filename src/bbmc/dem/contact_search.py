@@ -69,6 +69,15 @@ def _bonded(state: State) -> np.ndarray:
     return _shares_any(state, (subs[:, L.SLIPPED] == 0.0) & ((subs[:, L.COH] > 0.0) | (subs[:, L.TEN] > 0.0)))
 
 
+def _kept_then_zeros(rows: np.ndarray, kept: np.ndarray, new: int) -> np.ndarray:
+    """rows[kept] followed by `new` rows of zeros, gathered straight into the one new array: indexing
+    then concatenating held a third copy of the sub-contact rows at each search (104 MB at 100,000
+    blocks). mode="clip" because numpy buffers `out` for mode="raise"; `kept` are valid row indices."""
+    out = np.zeros((len(kept) + new, rows.shape[1]))
+    np.take(rows, kept, axis=0, out=out[: len(kept)], mode="clip")
+    return out
+
+
 def search_contacts(model: Model, state: State) -> None:
     """Find the facing edge pairs now within the margin; contacts found before keep their state."""
     b, economy = state.blocks, model.economy
@@ -99,10 +108,8 @@ def search_contacts(model: Model, state: State) -> None:
     ).reshape(-1, L.CONTACT_COLUMNS)
     fresh = found[fresh]
     kept_rows = (kept[:, None] * n_sub + np.arange(n_sub)).ravel()
-    subs = np.concatenate([state.subs[kept_rows], np.zeros((len(fresh) * n_sub, L.SUB_COLUMNS))])
-    law_state = np.concatenate(
-        [state.law_state[kept_rows], np.zeros((len(fresh) * n_sub, L.LAW_STATE_COLUMNS))]
-    )
+    subs = _kept_then_zeros(state.subs, kept_rows, len(fresh) * n_sub)
+    law_state = _kept_then_zeros(state.law_state, kept_rows, len(fresh) * n_sub)
     first_new = len(kept)
     joint_state.initial_joint_state(
         contacts, subs, law_state, n_sub, model.laws, model.params, first_new, state.step == 0
