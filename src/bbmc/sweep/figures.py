@@ -113,6 +113,7 @@ def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
     ax_h.hist(values[values < 1.0], bins=edges, color=NEGATIVE, alpha=0.8, label="FS < 1 (fails)")
     ax_h.set(xlabel="factor of safety FS (-)", ylabel="number of samples", title="(a) histogram of FS")
     ax_h.yaxis.set_major_locator(MaxNLocator(integer=True))  # whole samples
+    ax_h.set_ylim(top=ax_h.get_ylim()[1] * 1.35)  # headroom: the legend above the tallest bar
     ecdf = np.arange(1, values.size + 1) / values.size
     ax_c.step(values, ecdf, where="post", color="k", label="empirical CDF")
     p_f = stats["probability_of_failure"]
