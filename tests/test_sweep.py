@@ -24,6 +24,8 @@ from bbmc.config import load_config
 from bbmc.slope import fos_cases as fc
 from bbmc.slope import toppling as tp
 from bbmc.stages import sweep as stage
+from bbmc.sweep import design, report
+from bbmc.sweep.outcomes import Outcomes
 from bbmc.sweep.runner import run_batches
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -364,7 +366,7 @@ def test_a_scene_that_cannot_stand_fails_and_one_with_an_unsupported_block_is_in
     """The block on its 30 deg plane, on a grid of friction (20 deg: it cannot stand under its own
     strength; 40 deg: it stands) and of where it lies (on the plane, or beyond the plane's end: nothing
     holds it). The block that slides gets its FS < 1 (tan 20 / tan 30 = 0.630, from the elastic start)
-    and counts in P_f; the one beyond the plane falls even with every strength x 1e6, so both samples
+    and counts as below one at its grid point; the one beyond the plane falls even with every strength x 1e6, so both samples
     there are invalid, each with its reason in samples.csv and summary.csv; 2 of 4 samples without an
     FS is more than 10 %: one line on stderr says so."""
     scene = _config(tmp_path, fc.block_on_plane(fc.MOHR_COULOMB, 0.8, 0.2), "scene.yaml")
@@ -393,7 +395,10 @@ def test_a_scene_that_cannot_stand_fails_and_one_with_an_unsupported_block_is_in
     assert on_plane.loc[40.0, "factor_of_safety"] > 1.0
     summary = pd.read_csv(out / "unsupported" / "summary.csv").set_index("quantity")["value"]
     assert summary["valid_samples"] == 2 and summary["invalid_samples"] == 2 and summary["failed_runs"] == 0
-    assert summary["probability_of_failure"] == 0.5
+    assert "probability_of_failure" not in summary.index  # a grid is no sample of a distribution
+    chart = pd.read_csv(out / "unsupported" / "fs_against_parameter.csv")
+    assert list(chart["runs"]) == [1, 1, 1, 1] and list(chart["excluded"]) == [0, 1, 0, 1]
+    assert list(chart["below_one"]) == [1, 0, 0, 0]
     rows = [f"invalid_sample.{k}.blocks" for k in samples.index[beyond]]
     assert all(row in summary.index and math.isnan(summary[row]) for row in rows)  # no realization: no seed
     warning = [line for line in outcome.output.splitlines() if "warning: 2 of 4 samples (50 %" in line]
@@ -412,8 +417,8 @@ def test_an_invalid_realization_is_listed_with_its_seed():
         },
         index=pd.RangeIndex(3, name="sample"),
     )
-    inputs = stage.Inputs([("blocks.0.rock_mass.seed", stage.design.marginal("realization"))], {}, {})
-    rows = stage.invalid_rows(samples, stage.Outcomes.of(samples), inputs)
+    inputs = report.Inputs([("blocks.0.rock_mass.seed", design.marginal("realization"))], {}, {})
+    rows = report.invalid_rows(samples, Outcomes.of(samples), inputs)
     assert rows.values.tolist() == [["invalid_sample.1.blocks", 22.0, "seed"]]
 
 

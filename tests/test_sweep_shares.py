@@ -19,8 +19,7 @@ from click.testing import CliRunner
 from scipy import integrate, stats
 
 from bbmc.cli import main
-from bbmc.stages import sweep as stage
-from bbmc.sweep import design, shares
+from bbmc.sweep import design, report, shares
 from bbmc.sweep.config import Config
 from bbmc.sweep.models import ERROR, FS, OUTCOME
 from bbmc.sweep.outcomes import Outcomes
@@ -200,7 +199,7 @@ def test_a_crossed_design_without_a_geometry_variable_is_refused(tmp_path):
         Config.model_validate(plain)
 
 
-def _seed_study(method: str, n: int) -> tuple[Config, stage.Inputs, pd.DataFrame, dict | None]:
+def _seed_study(method: str, n: int) -> tuple[Config, report.Inputs, pd.DataFrame, dict | None]:
     """A seed and a friction, FS = friction / 40 + a jump decided by the seed's parity."""
     data = yaml.safe_load(PLANAR.read_text())
     variables = [
@@ -215,7 +214,7 @@ def _seed_study(method: str, n: int) -> tuple[Config, stage.Inputs, pd.DataFrame
         table, problem = design.sample_table(variables, n, method, 4), None
     fs = table["friction"] / 40.0 + 0.5 * (table["rock.seed"] % 2)
     samples = table.assign(**{FS: fs, ERROR: "", OUTCOME: "valid"})
-    inputs = stage.Inputs(variables, {"rock.seed": None, "friction": None}, {})
+    inputs = report.Inputs(variables, {"rock.seed": None, "friction": None}, {})
     return config, inputs, samples, problem
 
 
@@ -224,7 +223,7 @@ def test_a_seed_is_neither_ranked_nor_given_sobol_indices(method, n):
     """The seed drives half of FS here (by parity, no order), yet sensitivity.csv and the tornado hold
     the friction only, with its Sobol' indices for a saltelli design."""
     config, inputs, samples, problem = _seed_study(method, n)
-    result = stage.fs_result(config, samples, inputs, Outcomes.of(samples), None, problem, lambda _: None)
+    result = report.fs_result(config, samples, inputs, Outcomes.of(samples), None, problem, lambda _: None)
     sensitivity = result.tables["sensitivity"]
     assert sensitivity["input"].tolist() == ["friction"]
     assert sensitivity["spearman_rho"].iloc[0] > 0

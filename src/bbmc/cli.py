@@ -21,6 +21,7 @@ from bbmc import warmup as warmup_module
 from bbmc.command_outcome import report_written, reported, scene_at_fault
 from bbmc.config import ConfigError, load_config
 from bbmc.io import provenance, write_stage
+from bbmc.progress import Progress
 from bbmc.progress_bar import ProgressBar
 from bbmc.scene.schema import Scene
 from bbmc.stages import audit as audit_stage
@@ -321,8 +322,8 @@ def sweep_command(
         settings = load_config(config_path, sweep_stage.Config)
         root = Path(results) / sweep_stage.NAME
 
-        def say(line: str) -> None:
-            click.echo(f"bbmc sweep: {line}", err=True)
+        def say(news: Progress) -> None:
+            click.echo(f"bbmc sweep: {news.text}", err=True)
 
         result = sweep_stage.run(settings, config_path, root, scheduler, workers, say)
         out_dir = root / settings.name

@@ -15,7 +15,7 @@ from bbmc.config import ConfigError
 from bbmc.dem.solver import SimulationError
 from bbmc.exit_status import BAD_INPUT, INTERRUPTED, NO_SAMPLE, UNSTABLE, WRITE_FAILED
 from bbmc.plausibility import ImplausibleValue
-from bbmc.stages.sweep import NoValidSampleError
+from bbmc.sweep.study import NoValidSampleError
 
 
 @contextmanager

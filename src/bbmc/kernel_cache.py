@@ -14,6 +14,13 @@ module that imports numba together with every bbmc module those import, directly
 command line) keeps it. A key not used for `KEEP_DAYS` days is removed. `use_keyed_cache` sets
 NUMBA_CACHE_DIR to the directory before any kernel is decorated; child processes (a sweep's workers)
 inherit it and compute the same key from the same source. It replaces a NUMBA_CACHE_DIR set by hand.
+
+Inside a key's directory numba keeps each source folder's kernels in a folder of its own, named after
+the folder's absolute path (`source_subfolder`): two copies of the same source (a second checkout, a
+git worktree, a package copied to a dask worker by `client.upload_file`) share a key but not their
+compiled kernels, and the first run from each copy compiles. `engine_is_cold` therefore looks in this
+copy's folder, and a study warms the engine once per machine before its workers start
+(`bbmc.sweep.runner`). `kernel_files` and `written_since` count what a call wrote into the cache.
 """
 
 from __future__ import annotations
@@ -121,10 +128,38 @@ def use_keyed_cache(package: Path = PACKAGE) -> Path | None:
     return folder
 
 
-def engine_is_cold(folder: Path) -> bool:
-    """True when `folder` holds no compiled engine cycle for this Python: the next run compiles it."""
+def source_subfolder(folder: Path, source: Path) -> Path:
+    """Where numba keeps the kernels of the file `source` under the cache `folder`: <folder>/<name of
+    the file's folder>_<SHA-1 of that folder's absolute path> (numba's
+    `_CacheLocator.get_suitable_cache_subpath`)."""
+    parent = os.path.dirname(os.path.abspath(source))
+    return folder / f"{os.path.basename(parent)}_{hashlib.sha1(parent.encode()).hexdigest()}"
+
+
+def engine_is_cold(folder: Path, package: Path = PACKAGE) -> bool:
+    """True when `folder` holds no compiled engine cycle of this copy of the source (`package`) for this
+    Python: the next run compiles it."""
     version = f"py{sys.version_info.major}{sys.version_info.minor}"
-    return not any(folder.glob(f"*/kernels.cycle-*.{version}.nbi"))
+    kernels = source_subfolder(folder, package / "dem" / "kernels.py")
+    return not any(kernels.glob(f"kernels.cycle-*.{version}.nbi"))
+
+
+def current_folder() -> Path:
+    """The folder numba compiles into in this process: the keyed cache (`use_keyed_cache`), or where
+    it could not be made numba's own, beside the source."""
+    return Path(os.environ.get("NUMBA_CACHE_DIR") or PACKAGE)
+
+
+def kernel_files(folder: Path) -> dict[Path, float]:
+    """The compiled kernels under `folder` (numba's *.nbc files), each with its modification time [s
+    since the epoch]."""
+    return {path: path.stat().st_mtime for path in folder.rglob("*.nbc")}
+
+
+def written_since(before: dict[Path, float], folder: Path) -> list[Path]:
+    """The compiled kernels under `folder` written (new or rewritten) since `before` =
+    `kernel_files(folder)`: what the calls in between compiled rather than loaded."""
+    return sorted(path for path, mtime in kernel_files(folder).items() if before.get(path) != mtime)
 
 
 def jit_disabled() -> bool:

@@ -2,9 +2,11 @@
 that a user's first `bbmc run` loads them instead of compiling them (`bbmc run
 configs/scenes/example.yaml`: 3.4-4.2 s after a warm-up, 20-24 s on a cold cache).
 
-pip has no post-install hook, so `make` calls it after installing (the `.venv/.installed` step). It
-compiles through the public run path, not from a list of kernels: two small built-in scenes are run
-with `bbmc.api.run`, and the factor of safety of one of them with `bbmc.api.factor_of_safety`, so every
+pip has no post-install hook, so `make` calls it after installing (the `.venv/.installed` step), and a
+study calls `warm_if_cold` once per machine before its workers start (`bbmc.sweep.runner`), so that
+its workers load the engine instead of each compiling it at once. It compiles through the run path
+`bbmc.api` takes, not from a list of kernels: two small built-in scenes are validated, built and
+simulated, and the factor of safety of one of them found by strength reduction, so every
 kernel those paths call is compiled with the exact argument types a real run gives it, and a kernel
 added to the engine later is warmed without an edit here, as long as these scenes reach it (a slow
 test fails naming any kernel of `bbmc.dem` a cold warm-up leaves uncompiled; a setting that selects
@@ -23,7 +25,6 @@ callers pass). A kernel is counted as compiled when this call wrote it into the 
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -31,7 +32,12 @@ from pathlib import Path
 
 import numpy as np
 
-from bbmc import api, kernel_cache, laws
+from bbmc import kernel_cache, laws
+from bbmc.config import validate
+from bbmc.dem.model import build_model
+from bbmc.dem.solver import simulate
+from bbmc.fos.strength_reduction import factor_of_safety
+from bbmc.scene.schema import Scene
 
 _MOHR_COULOMB = {"law": "constant", "kn_MPa_per_mm": 10, "ks_MPa_per_mm": 5, "friction_deg": 35}
 
@@ -156,10 +162,9 @@ class Warmup:
     seconds: float
 
 
-def _kernel_files(folder: Path) -> dict[Path, float]:
-    """The compiled kernels under `folder` (numba's *.nbc files), each with its modification time [s
-    since the epoch]."""
-    return {path: path.stat().st_mtime for path in folder.rglob("*.nbc")}
+def _model(scene: dict):
+    """The engine's model of a built-in scene, validated and built as `bbmc.api.run` builds it."""
+    return build_model(validate(scene, Scene, "<scene dict>"), Path(f"{scene['name']}.yaml"))
 
 
 def _warm_ufuncs() -> None:
@@ -176,17 +181,25 @@ def warm(progress: Callable[[str], None] = lambda _: None) -> Warmup:
     scenes `PLAIN` and `FEATURED` run, the latter's factor of safety, the laws' ufuncs. `progress` is
     told each part as it starts."""
     started = time.perf_counter()
-    # the keyed cache (`bbmc.kernel_cache`), or where it could not be made numba's own: beside the source
-    folder = Path(os.environ.get("NUMBA_CACHE_DIR") or kernel_cache.PACKAGE)
-    before = _kernel_files(folder)
+    folder = kernel_cache.current_folder()
+    before = kernel_cache.kernel_files(folder)
     progress("the block engine on constant joints")
-    api.run(PLAIN)
+    simulate(_model(PLAIN))
     progress("the block engine with water, rock bridges, Barton-Bandis and the full joint")
-    api.run(FEATURED)
+    simulate(_model(FEATURED))
     progress("strength reduction (factor of safety trials)")
-    api.factor_of_safety(FEATURED)
+    factor_of_safety(_model(FEATURED))
     progress("the joint laws as numpy ufuncs")
     _warm_ufuncs()
-    after = _kernel_files(folder)
-    compiled = sum(1 for path, mtime in after.items() if before.get(path) != mtime)
-    return Warmup(compiled, len(after), folder, time.perf_counter() - started)
+    compiled = len(kernel_cache.written_since(before, folder))
+    return Warmup(compiled, len(kernel_cache.kernel_files(folder)), folder, time.perf_counter() - started)
+
+
+def warm_if_cold(progress: Callable[[str], None] = lambda _: None) -> Warmup | None:
+    """`warm` if this process's cache holds no compiled engine of this copy of the source
+    (`bbmc.kernel_cache.engine_is_cold`), after one line to `progress`; None if it is warm or the
+    kernels run as plain Python (NUMBA_DISABLE_JIT). A check of a few milliseconds when warm."""
+    if kernel_cache.jit_disabled() or not kernel_cache.engine_is_cold(kernel_cache.current_folder()):
+        return None
+    progress("compiling the block engine once, before the workers start (a cold cache: 20-90 s)")
+    return warm()

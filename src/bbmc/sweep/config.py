@@ -195,8 +195,10 @@ class Correlation(Section):
 class Sampling(Section):
     """monte_carlo, latin_hypercube, sobol (scrambled; samples a power of 2), saltelli (SALib's design
     for Sobol indices: samples x (variables + 2) runs), or grid (the cartesian product of `grid`).
-    `realizations` n crosses the design (`bbmc.sweep.design.crossed_table`): n draws of the geometry
-    variables, each paired with the same `samples` m draws of the others, n x m runs."""
+    `realizations` n crosses a random design (`bbmc.sweep.design.crossed_table`): n draws of the
+    geometry variables, each paired with the same `samples` m draws of the others, n x m runs; with a
+    grid, it runs every grid point with the same n draws of the variables
+    (`bbmc.sweep.design.grid_realizations_table`), n x (grid points) runs."""
 
     method: Literal["monte_carlo", "latin_hypercube", "sobol", "saltelli", "grid"]
     samples: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
@@ -217,8 +219,7 @@ class Config(Section):
     @model_validator(mode="after")
     def _design(self) -> Config:
         if self.sampling.method == "grid":
-            if not self.grid or self.variables:
-                raise ValueError("sampling.method grid takes `grid` axes and no `variables`")
+            self._grid()
         else:
             if not self.variables or self.grid:
                 raise ValueError(f"sampling.method {self.sampling.method} takes `variables` and no `grid`")
@@ -227,13 +228,39 @@ class Config(Section):
         paths = [v.path for v in self.variables] + [a.path for a in self.grid]
         if len(set(paths)) != len(paths):
             raise ValueError("a path is given twice")
-        if self.correlation is not None and not set(self.correlation.between) <= set(paths):
+        if self.correlation is not None and not set(self.correlation.between) <= {
+            v.path for v in self.variables
+        }:
             raise ValueError("correlation.between must name two of the variables' paths")
-        if self.sampling.realizations is not None:
+        if self.sampling.method != "grid" and self.sampling.realizations is not None:
             self._crossed()
         elif any(v.geometry for v in self.variables):
-            raise ValueError("`geometry: true` groups a variable in a crossed design: give realizations")
+            raise ValueError(
+                "`geometry: true` groups a variable in a crossed design (a random design with realizations); "
+                "a grid study draws every variable once per realization"
+            )
         return self
+
+    def _grid(self) -> None:
+        """A grid study takes `grid` axes, and `variables` only with `realizations` (each drawn once per
+        realization, the same draws at every grid point); it samples no `samples`."""
+        if not self.grid:
+            raise ValueError("sampling.method grid needs `grid` axes")
+        if self.sampling.samples is not None:
+            raise ValueError(
+                "sampling.samples is not used by a grid (its samples are the grid points x realizations): "
+                "remove it"
+            )
+        if self.variables and self.sampling.realizations is None:
+            raise ValueError(
+                "a grid study takes `variables` only with sampling.realizations (each drawn once per "
+                "realization, e.g. the rock mass's seed)"
+            )
+        if self.sampling.realizations is not None and not self.variables:
+            raise ValueError(
+                "sampling.realizations in a grid study draws the `variables` once per realization: give one "
+                "(e.g. {path: blocks.0.rock_mass.seed, distribution: realization})"
+            )
 
     def _crossed(self) -> None:
         """A crossed design needs a random design, at least 2 samples per realization, a geometry and

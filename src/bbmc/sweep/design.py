@@ -350,3 +350,22 @@ def grid_table(axes: list[tuple[str, list[float]]]) -> pd.DataFrame:
             raise ValueError(f"axis {name!r} has no values")
     rows = list(itertools.product(*(list(values) for _, values in axes)))
     return _table(names, np.asarray(rows, dtype=float))
+
+
+def grid_realizations_table(
+    axes: list[tuple[str, list[float]]],
+    variables: list[Variable],
+    realizations: int,
+    seed: int,
+    correlation: tuple[str, str, float] | None = None,
+) -> pd.DataFrame:
+    """A parameter study over realizations: every grid point (`grid_table`) run with the same
+    `realizations` n draws of the variables (a rock mass's seed and what goes with it; a Latin hypercube
+    from `seed`, `sample_table`), so that the realizations are paired across the grid (common random
+    numbers: a change of FS from one grid point to the next is the parameter's, not another draw's). Row
+    g n + r (index "sample") holds grid point g and realization r. n x (grid points) rows."""
+    points = grid_table(axes)
+    draws = sample_table(variables, realizations, "latin_hypercube", seed, correlation)
+    rows = np.repeat(points.to_numpy(), realizations, axis=0)
+    columns = np.tile(draws.to_numpy(), (len(points), 1))
+    return _table([*points.columns, *draws.columns], np.column_stack([rows, columns]))
