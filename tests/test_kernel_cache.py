@@ -95,8 +95,14 @@ def test_a_cold_engine_cache_is_announced_once(tmp_path, monkeypatch, capsys):
     assert len(lines) == 1 and "compiling the block engine" in lines[0]
 
     version = f"py{sys.version_info.major}{sys.version_info.minor}"
-    (tmp_path / "dem_0123").mkdir()
+    kernels = kernel_cache.source_subfolder(tmp_path, PACKAGE / "dem" / "kernels.py")
+    (tmp_path / "dem_0123").mkdir()  # another copy of the source: its compiled engine is not this one's
     (tmp_path / "dem_0123" / f"kernels.cycle-758.{version}.nbi").touch()
+    monkeypatch.setattr(kernel_cache, "_announced", False)
+    kernel_cache.announce_engine_compile()
+    assert "compiling the block engine" in capsys.readouterr().err
+    kernels.mkdir()
+    (kernels / f"kernels.cycle-758.{version}.nbi").touch()
     monkeypatch.setattr(kernel_cache, "_announced", False)
     kernel_cache.announce_engine_compile()
     assert capsys.readouterr().err == ""

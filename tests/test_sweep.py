@@ -21,6 +21,7 @@ from scipy.stats import norm
 from bbmc.cli import main
 from bbmc.command_outcome import reported
 from bbmc.config import load_config
+from bbmc.progress import Progress
 from bbmc.slope import fos_cases as fc
 from bbmc.slope import toppling as tp
 from bbmc.stages import sweep as stage
@@ -166,8 +167,8 @@ def test_a_dask_cluster_gives_the_same_answer_and_survives_a_killed_worker(tmp_p
             pids = list(client.run(os.getpid).values())
         killed = []
 
-        def say(line: str) -> None:
-            if "1/16 samples" in line and not killed:
+        def say(news: Progress) -> None:
+            if "1/16 samples" in news.text and not killed:
                 os.kill(pids[0], signal.SIGKILL)
                 killed.append(pids[0])
 

@@ -234,11 +234,10 @@ class Config(Section):
             raise ValueError("correlation.between must name two of the variables' paths")
         if self.sampling.method != "grid" and self.sampling.realizations is not None:
             self._crossed()
+        elif any(v.geometry is not None for v in self.variables) and self.sampling.method == "grid":
+            raise ValueError("a grid study draws every variable once per realization: it takes no `geometry`")
         elif any(v.geometry for v in self.variables):
-            raise ValueError(
-                "`geometry: true` groups a variable in a crossed design (a random design with realizations); "
-                "a grid study draws every variable once per realization"
-            )
+            raise ValueError("`geometry: true` groups a variable in a crossed design: give realizations")
         return self
 
     def _grid(self) -> None:
