@@ -367,9 +367,9 @@ def test_a_scene_that_cannot_stand_fails_and_one_with_an_unsupported_block_is_in
     """The block on its 30 deg plane, on a grid of friction (20 deg: it cannot stand under its own
     strength; 40 deg: it stands) and of where it lies (on the plane, or beyond the plane's end: nothing
     holds it). The block that slides gets its FS < 1 (tan 20 / tan 30 = 0.630, from the elastic start)
-    and counts as below one at its grid point; the one beyond the plane falls even with every strength x 1e6, so both samples
-    there are invalid, each with its reason in samples.csv and summary.csv; 2 of 4 samples without an
-    FS is more than 10 %: one line on stderr says so."""
+    and counts as below one at its grid point; the one beyond the plane falls even with every strength
+    x 1e6, so both samples there are invalid, each with its reason in samples.csv and summary.csv; 2 of
+    4 samples without an FS is more than 10 %: one line on stderr says so."""
     scene = _config(tmp_path, fc.block_on_plane(fc.MOHR_COULOMB, 0.8, 0.2), "scene.yaml")
     study = {
         "name": "unsupported",

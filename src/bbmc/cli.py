@@ -304,7 +304,8 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
 def sweep_command(
     config_path: Path, results: str, strict: bool, scheduler: str | None, workers: int | None
 ) -> None:
-    """A probabilistic analysis or parameter study: sample the inputs, run every sample, report P_f.
+    """A probabilistic analysis or parameter study: sample the inputs, run every sample, report P_f
+    (a sampled study) or FS against the parameters (a grid).
 
     \b
     Example:
@@ -313,7 +314,8 @@ def sweep_command(
     writes results/sweep/<name>/samples.csv, summary.csv (FS at the mean inputs, mean and std of FS,
     P_f with its 95 % interval, reliability indices, impossible samples, truncations),
     convergence.csv, convergence.png, sensitivity.csv, fs_distribution.png, tornado.png,
-    provenance.json, and for a crossed design (sampling.realizations) geometry_share.csv. Finished
+    provenance.json, and for a crossed design (sampling.realizations) geometry_share.csv; a grid
+    study writes samples.csv, summary.csv, fs_against_parameter.csv and .png instead. Finished
     batches are kept in results/sweep/<name>.progress/: the same command run again after an
     interruption runs only the missing samples. Progress and the time left on stderr.
     Exit status 4 (nothing written) if no sample gave a result, with the first errors.

@@ -115,6 +115,9 @@ def fs_figure(
         median = "median FS" if realizations > 1 else "FS"
         ax.plot(x, group["fs_median"], color=colour, marker="o", linewidth=2.0, label=median + suffix)
     ax.axhline(1.0, color="k", linestyle="--", linewidth=1.2, label="FS = 1")
+    values = np.unique(table[x_path].to_numpy(dtype=float))
+    if len(values) <= POINT_LINES:  # few grid values: a tick at each
+        ax.set_xticks(values, [f"{value:g}" for value in values])
     per_point = f", {realizations} realizations per point" if realizations > 1 else ""
     ax.set(
         xlabel=axis_label(x_path),

@@ -9,21 +9,24 @@ accepts, and grid values within that range.
 Every sample is accounted for: its `outcome` in samples.csv is `valid` (it has an FS, perhaps below 1:
 a failure), `invalid` (its own scene is at fault, chiefly its geometry: `bbmc.sweep.models`),
 `failed_run` (any other error) or `impossible_input` (not run). P_f is over the valid samples; a study
-in which more than `UNCOUNTED_WARNING` of the samples have no FS says so in one line on stderr.
+in which more than `bbmc.sweep.report.UNCOUNTED_WARNING` of the samples have no FS says so in one
+line.
 
-Writes into <results>/sweep/<name>/: samples.csv (each sample's inputs and outputs, its outcome, and
-its error where it has no output), summary.csv (`quantity,value,unit`: the counts of valid, invalid,
-failed and impossible samples, each invalid sample as a row `invalid_sample.<sample>.<key>` holding its
-seed (NaN for a study without a `realization` variable; <key> is the key its error names, the reason:
-`blocks` for a block that finds no equilibrium even elastically or blocks that overlap), the FS at the
-mean inputs, mean and standard deviation of FS, probability of failure with its 95 % interval,
-reliability indices, the truncations),
-convergence.csv and convergence.png (P_f and mean FS against the number of samples; not for a grid or
-a crossed design), sensitivity.csv (Spearman rank correlation of each input with FS; Sobol indices for
-a saltelli design; a realization's seed, which has no order, is not ranked), fs_distribution.png,
-tornado.png, for a crossed design geometry_share.csv (`bbmc.sweep.shares`), and provenance.json. The
-finished batches stay in <results>/sweep/<name>.progress/<study>/ (one folder per distinct study), so
-that running the same command again runs only what is missing. A study in which no sample gave a
+Its results, which `bbmc sweep` writes into <results>/sweep/<name>/ and `bbmc.api.study` returns:
+samples.csv (each sample's inputs and outputs, its outcome, and its error where it has no output),
+summary.csv (`quantity,value,unit`: the counts of valid, invalid, failed and impossible samples, each
+invalid sample as a row `invalid_sample.<sample>.<key>` holding its seed (NaN for a study without a
+`realization` variable; <key> is the key its error names, the reason: `blocks` for a block that finds
+no equilibrium even elastically or blocks that overlap), the truncations; for a sampled study also the
+FS at the mean inputs, mean and standard deviation of FS, probability of failure with its 95 %
+interval, reliability indices), and provenance.json. A sampled study adds (`bbmc.sweep.report`)
+convergence.csv and convergence.png (P_f and mean FS against the number of samples; not for a crossed
+design), sensitivity.csv (Spearman rank correlation of each input with FS; Sobol indices for a
+saltelli design; a realization's seed, which has no order, is not ranked), fs_distribution.png,
+tornado.png, and for a crossed design geometry_share.csv (`bbmc.sweep.shares`). A grid study adds
+fs_against_parameter.csv and .png (`bbmc.sweep.parameters`) instead: its points are set, not drawn.
+The finished batches stay in <progress root>/<name>.progress/<study>/ (one folder per distinct study),
+so that running the same study again runs only what is missing. A study in which no sample gave a
 result raises `NoValidSampleError` (exit status 4) and writes nothing.
 """
 
