@@ -246,9 +246,11 @@ def warm_engine(scheduler: str | Client | None, say: Callable[[str], None] = lam
 
 def _warm_hosts(client: Client, say: Callable[[str], None]) -> None:
     """The engine compiled on one worker of each host whose cache is cold, waited for."""
+    from distributed.comm import get_address_host
+
     hosts: dict[str, str] = {}
-    for address, info in client.scheduler_info(n_workers=-1)["workers"].items():
-        hosts.setdefault(info["host"], address)
+    for address in client.ncores():  # every worker
+        hosts.setdefault(get_address_host(address), address)
     found = _on_each(client, _cold_on_worker, hosts)
     cold = {host: address for (host, address), is_cold in zip(hosts.items(), found, strict=True) if is_cold}
     if cold:

@@ -37,6 +37,7 @@ import hashlib
 import json
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
 from pydantic import BaseModel
@@ -64,6 +65,9 @@ from bbmc.sweep.report import (
     truncation_rows,
 )
 from bbmc.sweep.runner import Model, run_batches, warm_engine
+
+if TYPE_CHECKING:
+    from distributed import Client
 
 STORE_VERSION = "2"  # in the batches' folder name: raised when the same study's results change
 
@@ -215,7 +219,9 @@ class _Where:
     local processes), and its progress: the runner's reports passed on, and lines of its own at the
     last count."""
 
-    def __init__(self, scheduler, workers: int | None, progress: ProgressCallback, total: int):
+    def __init__(
+        self, scheduler: str | Client | None, workers: int | None, progress: ProgressCallback, total: int
+    ) -> None:
         self.scheduler, self.workers, self.progress = scheduler, workers, progress
         self.done, self.total = 0, total
 
@@ -284,7 +290,7 @@ def run(
     config: Config,
     config_path: Path,
     progress_root: Path,
-    scheduler: object | None = None,
+    scheduler: str | Client | None = None,
     workers: int | None = None,
     progress: ProgressCallback = ignore,
 ) -> StageResult:
