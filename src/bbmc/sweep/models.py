@@ -29,40 +29,14 @@ from bbmc.config import ConfigError
 from bbmc.dem.model import built_scene
 from bbmc.dem.solver import SimulationError, simulate
 from bbmc.fos.strength_reduction import factor_of_safety
+from bbmc.scene.paths import get_path as get_path  # the sweep's callers read paths from here
+from bbmc.scene.paths import set_path
 from bbmc.slope import planar, toppling
 
 FS = "factor_of_safety"
 ERROR = "error"
 OUTCOME = "outcome"
 VALID, INVALID, FAILED_RUN = "valid", "invalid", "failed_run"
-
-
-def _step(tree: object, key: str) -> tuple[object, object]:
-    """The child of a mapping (by key) or a list (by index) and the key to reach it."""
-    if isinstance(tree, list):
-        index = int(key) if key.lstrip("-").isdigit() else None
-        if index is None or not -len(tree) <= index < len(tree):
-            raise KeyError(key)
-        return tree[index], index
-    if isinstance(tree, dict) and key in tree:
-        return tree[key], key
-    raise KeyError(key)
-
-
-def get_path(tree: object, path: str) -> object:
-    """The value at a dotted path (list entries by index); KeyError naming the first missing part."""
-    for key in path.split("."):
-        tree, _ = _step(tree, key)
-    return tree
-
-
-def set_path(tree: object, path: str, value: float) -> None:
-    """Set the value at a dotted path that exists (KeyError otherwise)."""
-    *parents, last = path.split(".")
-    for key in parents:
-        tree, _ = _step(tree, key)
-    _, key = _step(tree, last)
-    tree[key] = value
 
 
 def _errors(n: int) -> np.ndarray:
