@@ -52,24 +52,25 @@ class SimulationError(Exception):
 @dataclass
 class RunResult:
     """A scene's run (`simulate`, `bbmc.api.run`): the tables `bbmc run` writes, as DataFrames whose
-    columns carry their units (docs/reference/outputs.md lists them).
+    column names carry their units (every column in docs/scene-format.md#outputs).
 
     Attributes:
-        history: history.csv: step, time_s, and each monitor of the scene (its unit in its name) at
-            step 0 and every record step.
-        blocks: blocks.csv: every block at the end: block, group, x0_m, y0_m (start), x_m, y_m, ux_mm,
-            uy_mm, rotation_deg, vx_m_s, vy_m_s.
-        contacts: contacts.csv: every sub-contact at the end (inactive ones have length_m 0).
-        summary: summary.csv: quantity, value, unit rows (steps, time, stop reason, time-step range,
-            contact searches, interpenetration, warnings).
+        history: history.csv: `step`, `time_s`, then one column `<name>_<unit>` per monitor of the
+            scene, at step 0 and every record step.
+        blocks: blocks.csv, every block at the end: `block`, `group`, `x0_m`, `y0_m` (its centroid at
+            the start), `x_m`, `y_m`, `ux_mm`, `uy_mm`, `rotation_deg`, `vx_m_s`, `vy_m_s`.
+        contacts: contacts.csv: every sub-contact at the end, its place, joint law, stresses [MPa],
+            stiffnesses [MPa/mm], strength and displacements [mm] (inactive ones have length_m 0).
+        summary: summary.csv: `quantity`, `value`, `unit` rows (steps, time, stop reason, time-step
+            range, contact searches, interpenetration, warnings).
         warnings: the run's warnings, one line each (warnings.csv).
         bridges: bridges.csv: each rock bridge (a contact whose law breaks into a joint), where it is,
             how many of its shares broke and how, and by which record step (-1: not broken); no rows
             for a scene without bridges.
-        support: support.csv: each support element at the end, its force and capacity [kN per bolt]
-            and state; no rows for a scene without support.
-        state: the engine's arrays at the end (`bbmc.dem.state.State`: SI, the `bbmc.dem.layout`
-            columns).
+        support: support.csv: each support element at the end, its forces and capacities [kN per
+            bolt] and its state; no rows for a scene without support.
+        state: the engine's arrays at the end (`bbmc.dem.state.State`: SI units, the
+            `bbmc.dem.layout` columns).
     """
 
     history: pd.DataFrame

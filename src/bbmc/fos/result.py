@@ -220,9 +220,9 @@ class StrengthReductionResult:
 
     @property
     def trials_table(self) -> pd.DataFrame:
-        """fos.csv: one row per trial, in the order run: trial (1, 2, ...), factor F [1], verdict,
-        reason, steps, largest_displacement_mm, unbalanced_force_ratio [1], wall_time_s, the judged
-        block that moved most (moved_most_block) and its size (moved_most_block_size_m)."""
+        """fos.csv: one row per trial, in the order run: `trial` (1, 2, ...), `factor` (F), `verdict`,
+        `reason`, `steps`, `largest_displacement_mm`, `unbalanced_force_ratio`, `wall_time_s`,
+        `moved_most_block` (of the judged blocks) and `moved_most_block_size_m`."""
         return pd.DataFrame(
             {
                 "trial": range(1, len(self.trials) + 1),
@@ -240,14 +240,14 @@ class StrengthReductionResult:
 
     @property
     def mechanism(self) -> pd.DataFrame:
-        """mechanism.csv, by block: every block at the end of the highest stable trial (`trial`
-        last_stable; the start state at F = 1 where no stable trial ran) and of the lowest unstable one
-        (first_unstable), each with its factor F. Per block: block_id (its index in the scene's block
-        order, as in the VTK files), block, group, free (False: every degree of freedom held), size_m
-        (square root of its area), the centroid where the trials start x_m, y_m [m], its displacement
-        since then ux_mm, uy_mm and its length displacement_mm [mm], rotation_deg, and its velocity at
-        the trial's last step vx_m_s, vy_m_s [m/s], angular_velocity_deg_s. A trial the search did not
-        find (none failed, or none held) has no rows; one of the two always is."""
+        """mechanism.csv, by block: every block at the end of the highest stable trial and of the
+        lowest unstable one, with `trial` (last_stable or first_unstable), `factor` (its F), `block_id`
+        (the block's index in the scene's block order, as in the VTK files), `block`, `group`, `free`
+        (False: every degree of freedom held), `size_m` (square root of its area), `x_m`, `y_m` (its
+        centroid where the trials start), `ux_mm`, `uy_mm`, `displacement_mm`, `rotation_deg` (since
+        then), `vx_m_s`, `vy_m_s`, `angular_velocity_deg_s` (at the trial's last step). Where no stable
+        trial ran, the last stable rows are the start state at F = 1; a trial the search did not find
+        (none failed, or none held) has no rows; one of the two always is."""
         low, high = self.bracket
         ends = []
         if low > 0.0:

@@ -48,7 +48,8 @@ def _no_such_key(tree: object, path: str, source: str) -> ConfigError:
         except KeyError:
             where = ".".join(parts[:depth]) or "the top level"
             if isinstance(tree, list):
-                hint = f" ('{where}' is a list of {len(tree)}: indices 0 to {len(tree) - 1})"
+                indices = f"indices 0 to {len(tree) - 1}" if len(tree) > 1 else "index 0 only"
+                hint = f" ('{where}' is a list of {len(tree)}: {indices})"
             elif isinstance(tree, dict):
                 hint = closest(key, [str(k) for k in tree], "keys")
             else:
