@@ -155,7 +155,7 @@ def run(scene: Scene, config_path: Path, progress: ProgressCallback = ignore) ->
         tables["support"] = support_table(model.support, model.block_names, result.support_state)
         loads = largest_loads(model.support, result.support_state)
     if scene.design is not None:
-        design = design_support(model, config_path, lambda text: progress(Progress(0, None, "trials", text)))
+        design = design_support(model, config_path, progress)
         tables["design"] = design.trials
     seconds = time.perf_counter() - started
     tables["summary"] = summary_table(result, scene, seconds, unsupported, loads, design)
