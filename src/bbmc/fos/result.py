@@ -26,12 +26,18 @@ def factor_of_safety_text(factor_of_safety: float, bracket: tuple[float, float],
     decimals, the first place w reaches (10^-d <= w < 10^(1-d), d >= 0): "0.840" for the midpoint
     0.83984375 of [0.8359375, 0.84375] (w = 0.0078). Beyond the searched range, the bound it lies
     beyond: "> 8", "< 0.125". The full number stays in `factor_of_safety` and summary.csv."""
-    low, high = bracket
     if not bracketed:
-        return f"> {factor_of_safety:g}" if math.isinf(high) else f"< {factor_of_safety:g}"
-    width = high - low
+        return f"> {factor_of_safety:g}" if math.isinf(bracket[1]) else f"< {factor_of_safety:g}"
+    return f"{factor_of_safety:.{bracket_decimals(bracket)}f}"
+
+
+def bracket_decimals(bracket: tuple[float, float]) -> int:
+    """The decimals d a bracket [low, high] supports: the first place its width w reaches,
+    10^-d <= w < 10^(1-d), at least 0 and at most LARGEST_DECIMALS (a bracket bisected to adjacent
+    floating-point numbers)."""
+    width = bracket[1] - bracket[0]
     decimals = -math.floor(math.log10(width)) if width > 0 else LARGEST_DECIMALS
-    return f"{factor_of_safety:.{min(max(decimals, 0), LARGEST_DECIMALS)}f}"
+    return min(max(decimals, 0), LARGEST_DECIMALS)
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 from bbmc.dem.monitors import UNITS
 from bbmc.dem.support_report import per_bolt_kN, support_lines
-from bbmc.fos.result import StrengthReductionResult
+from bbmc.fos.result import StrengthReductionResult, bracket_decimals
 from bbmc.rockmass.figure import edge_style, set_colours
 
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
@@ -369,11 +369,12 @@ def mechanism_figure(result: StrengthReductionResult, dpi: int | None = None) ->
 
 
 def fos_title(result: StrengthReductionResult) -> str:
-    """The factor of safety (`factor_of_safety_text`) and the trial the mechanism comes from:
-    "FS = 1.11, lowest failing trial F = 1.117"; beyond the searched range, the bound it lies beyond."""
+    """The factor of safety (`factor_of_safety_text`) and the trial the mechanism comes from, to the
+    same decimals: "FS = 1.113, lowest failing trial F = 1.117"; beyond the searched range, the bound
+    it lies beyond."""
     fs, failing = result.factor_of_safety_text, result.bracket[1]
     if result.bracketed:
-        return f"FS = {fs}, lowest failing trial F = {failing:.4g}"
+        return f"FS = {fs}, lowest failing trial F = {failing:.{bracket_decimals(result.bracket)}f}"
     if math.isinf(failing):
         return f"FS {fs}: no trial failed"
     return f"FS {fs}: every trial failed, the lowest at F = {failing:.4g}"
