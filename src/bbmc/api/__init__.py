@@ -8,7 +8,7 @@ figures.
     result.blocks, result.contacts, result.summary, result.bridges, result.support
     crack = api.load_scene("configs/scenes/planar_crack.yaml")
     fos = api.factor_of_safety(api.with_values(crack, {"materials.rock.density_kg_m3": 2600}))
-    print(fos)              # factor of safety 1.11 (between ...), to the decimals its bracket supports
+    print(fos)              # "factor of safety 1.113 (between ...)": to the decimals its bracket supports
     fos.mechanism           # every block at the end of the last stable and the first unstable trial
     api.mechanism_figure(fos).savefig("mechanism.png")
 
