@@ -89,7 +89,11 @@ class Toppling(Section):
     b_m: float
     friction_deg: Angle
     side_friction_deg: Angle | None = None
-    unit_weight_kN_m3: Positive = 26.0  # with a support only (without, the FS does not depend on it)
+    # with a support or water only (without, the FS does not depend on it): density x g if a density is
+    # given, else unit_weight_kN_m3, else 26 kN/m^3
+    density_kg_m3: Positive | None = None
+    unit_weight_kN_m3: Positive | None = None
+    water_level_m: float | None = None  # a horizontal phreatic line this high above the toe (none: dry)
     support: TopplingSupport | None = None
 
     @model_validator(mode="after")
@@ -97,6 +101,8 @@ class Toppling(Section):
         system = toppling.regular_system(
             self.width_m, math.radians(self.base_dip_deg), self.crest_block, self.a1_m, self.a2_m, self.b_m
         )
+        if self.density_kg_m3 is not None and self.unit_weight_kN_m3 is not None:
+            raise ValueError("give density_kg_m3 or unit_weight_kN_m3, not both")
         if self.support is not None and self.support.block > system.n_blocks:
             raise ValueError(
                 f"support.block: the system has blocks 1 to {system.n_blocks}, not {self.support.block}"
