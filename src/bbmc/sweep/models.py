@@ -195,13 +195,13 @@ class TopplingModel:
                   (*keys, "friction_deg", "side_friction_deg")}  # fmt: skip
         support = self._support(inputs)
         level = self._column(inputs, "water_level_m")
-        wet = np.array([math.nan if v is None else float(v) for v in level])
+        wet = np.array([-math.inf if v is None else float(v) for v in level])  # -inf: dry (unique, not nan)
         fs, errors = np.full(len(inputs), math.nan), _errors(len(inputs))
         columns = [np.asarray(values[k], dtype=float) for k in keys]
         columns += [self._unit_weight(inputs), wet] + [support[k] for k in SUPPORT_KEYS]
         geometry = np.column_stack(columns)
         for row in np.unique(geometry, axis=0):
-            rows = np.all((geometry == row) | (np.isnan(geometry) & np.isnan(row)), axis=1)
+            rows = np.all(geometry == row, axis=1)
             width, dip, crest, a1, a2, b, unit_weight, water_level = row[: len(keys) + 2]
             block, force, angle, height = row[len(keys) + 2 :]
             try:
@@ -215,7 +215,7 @@ class TopplingModel:
                 )
                 water = (
                     None
-                    if math.isnan(water_level)
+                    if water_level == -math.inf
                     else toppling.phreatic_water(system, [-1e9, 1e9], [water_level, water_level])
                 )
                 side = values["side_friction_deg"]
