@@ -165,8 +165,8 @@ def horizontal_toe_support(
     Only the toe block's equations change with T (derived here from the march's):
       toppling  T cos θ h ≥ M_1                  (M_1: its toppling moment about the pivot without T)
       sliding   T (cos θ + tan φ_p sin θ) ≥ (1 − tan φ_p tan φ_d) P_{0,s}   (none if sliding is locked)
-    T is the larger of the two; +∞ if a block above the toe cannot be held, or the toe is then pushed
-    up its base (the march's check). A toe block that slides gives [HB81]'s horizontal toe force.
+    T is the larger of the two; +∞ if a block above the toe cannot be held, or the toe block floats.
+    A toe block that slides gives [HB81]'s horizontal toe force.
     """
     phi_d = friction if side_friction is None else side_friction
     h = 0.5 * blocks.heights[0] if height is None else height
@@ -186,6 +186,5 @@ def horizontal_toe_support(
     sliding = (lock * p1 + loads.along[0] - tp * loads.normal[0]) if lock > LOCK_TOLERANCE else -math.inf
     need_slide = sliding / (math.cos(theta) + tp * math.sin(theta))
     force = max(need_topple, need_slide)
-    support = BlockSupport.on_block(blocks, 1, max(force, 0.0), theta, h)
-    held = toppling_forces(blocks, friction, unit_weight, phi_d, support, water)
-    return force if held.held[0] else math.inf
+    floats = loads.normal[0] + max(force, 0.0) * math.sin(theta) <= 0.0  # water lifts the toe block
+    return math.inf if floats else force
