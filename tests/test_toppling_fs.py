@@ -161,3 +161,21 @@ def test_one_angle_is_the_tangent_ratio_and_fails_at_it(blocks, phi):
     assert fs == pytest.approx(math.tan(phi * DEG) / math.tan(limit), rel=1e-12)
     nudged = float(tp.factor_of_safety(blocks, phi * DEG, phi * DEG * (1 + 1e-15)))
     assert nudged == pytest.approx(fs, rel=1e-9)
+
+
+def test_fs_against_toe_support_has_no_jump(quarry):
+    """The issue's case: bases 32°, sides 30°, a horizontal support at half the toe block's height.
+    Old: FS 1.405 at 3.40 MN/m and 1.593 at 3.45 MN/m (a 13 % jump for 1.5 % more force), and at the
+    toe's base (h = 0) 0.650, 0.633, 0.633, 0.650 for 0, 0.3, 1 and 2 MN/m. Now FS moves by less than
+    1 % between 3.40 and 3.45 MN/m, and a support at the pivot's level (no arm against toppling) leaves
+    the FS where it is: the toe block topples and only an arm holds it."""
+
+    def fs(force: float, height: float) -> float:
+        support = tp.BlockSupport.on_block(quarry, 1, force, 20 * DEG, height)
+        return float(tp.factor_of_safety(quarry, 32 * DEG, 30 * DEG, support, GAMMA))
+
+    half = 0.5 * quarry.heights[0]
+    assert fs(3.45e6, half) / fs(3.40e6, half) == pytest.approx(1.0, abs=0.01)
+    assert fs(3.45e6, half) > fs(3.40e6, half)
+    at_pivot = [fs(force, 0.0) for force in (0.0, 3e5, 1e6, 2e6)]
+    assert at_pivot == pytest.approx([at_pivot[0]] * 4, rel=1e-12)

@@ -76,3 +76,13 @@ def test_a_batch_with_one_geometry_is_one_vectorised_call(monkeypatch):
     inputs = {"friction_deg": rng.normal(40, 3, 1000), "side_friction_deg": rng.normal(35, 3, 1000)}
     fs = _fs({**BASE, "side_friction_deg": 35.0, "support": None}, inputs)
     assert len(calls) == 1 and np.isfinite(fs).all()
+
+
+def test_a_support_placed_by_its_level_on_the_face():
+    """support.level_m: 2 m above the toe, horizontal (angle_deg = the base dip): the toe block, 2.309 m
+    up its face, as `toppling.face_support` places it."""
+    base = {**BASE, "support": {"force_kN_per_m": 2000.0, "angle_deg": 30.0, "level_m": 2.0}}
+    placed = tp.face_support(SYSTEM, 2.0, 2e6, 0.0)
+    assert placed.height[0] == pytest.approx(2.0 / math.cos(math.radians(30.0)), rel=1e-12)
+    expected = tp.factor_of_safety(SYSTEM, np.radians([38.0]), support=placed, unit_weight=26e3)
+    np.testing.assert_allclose(_fs(base, {"friction_deg": [38.0]}), expected, rtol=1e-12)

@@ -68,12 +68,15 @@ class Planar(Section):
 class TopplingSupport(Section):
     """A support force per metre run on one block of the toppling system (`bbmc.slope.toppling.
     BlockSupport`, RocTopple's): on its downhill face at height_m above its base, at angle_deg from the
-    base's up-dip direction towards the base; not reduced with the friction."""
+    base's up-dip direction towards the base (a horizontal force: the base dip); not reduced with the
+    friction. Or placed by level_m, its vertical height above the toe on the slope face, as RocTopple
+    places line loads (`toppling.face_support`: the block and the point from the geometry)."""
 
-    block: Annotated[int, Field(ge=1)]  # 1: the toe block
+    block: Annotated[int, Field(ge=1)] = 1  # 1: the toe block
     force_kN_per_m: Annotated[float, Field(ge=0)]
     angle_deg: Annotated[float, Field(ge=-180, le=180)]
     height_m: Annotated[float, Field(ge=0)] = 0.0
+    level_m: Annotated[float, Field(ge=0)] | None = None
 
 
 class Toppling(Section):

@@ -150,7 +150,7 @@ class PlanarModel:
         return _limit_equilibrium_table(fs, errors, inputs.index)
 
 
-SUPPORT_KEYS = ("block", "force_kN_per_m", "angle_deg", "height_m")  # a toppling base's support
+SUPPORT_KEYS = ("block", "force_kN_per_m", "angle_deg", "height_m", "level_m")  # a toppling base's support
 
 
 DEFAULT_UNIT_WEIGHT_KN_M3 = 26.0  # a toppling base's unit weight without a density or unit weight
@@ -171,7 +171,8 @@ class TopplingModel:
 
     def _support(self, inputs: pd.DataFrame) -> dict[str, np.ndarray]:
         """The support's values per sample (zero force without a support)."""
-        given = self.base.get("support") or dict.fromkeys(SUPPORT_KEYS, 0.0)
+        given = {"level_m": None, **(self.base.get("support") or dict.fromkeys(SUPPORT_KEYS, 0.0))}
+        given["level_m"] = -math.inf if given["level_m"] is None else given["level_m"]  # -inf: by block
         return {
             key: np.asarray(
                 inputs[f"support.{key}"] if f"support.{key}" in inputs else np.full(len(inputs), given[key]),
@@ -203,15 +204,19 @@ class TopplingModel:
         for row in np.unique(geometry, axis=0):
             rows = np.all(geometry == row, axis=1)
             width, dip, crest, a1, a2, b, unit_weight, water_level = row[: len(keys) + 2]
-            block, force, angle, height = row[len(keys) + 2 :]
+            block, force, angle, height, level = row[len(keys) + 2 :]
             try:
                 system = toppling.regular_system(width, math.radians(dip), int(crest), a1, a2, b)
                 held = (
-                    toppling.BlockSupport.on_block(
+                    None
+                    if force <= 0
+                    else toppling.BlockSupport.on_block(
                         system, int(block), force * 1e3, math.radians(angle), height
                     )
-                    if force > 0
-                    else None
+                    if level == -math.inf
+                    else toppling.face_support(
+                        system, level, force * 1e3, math.radians(angle) - system.base_dip
+                    )
                 )
                 water = (
                     None
