@@ -6,7 +6,8 @@ Conventions of the pages (README.md, docs/):
 * A fenced block with `title="PATH"` shows the repository file PATH: either its text verbatim (the
   README, which GitHub renders) or `--8<-- "PATH"` (MkDocs' snippets include it when the guide is
   built). Every scene or study file shown in a tutorial or how-to page is run by a command there.
-* In the README, the tutorials, the how-to pages and docs/rock-mass.md, every ```sh block is run
+* In the README, the tutorials, the how-to pages, docs/rock-mass.md and the API reference's
+  docs/reference/api/api.md, every ```sh block is run
   line by line (each line a `bbmc` command) and every ```python block is executed, in the page's
   order, in one temporary folder that sees the repository's configs/, data/ and docs/. An HTML
   comment on the line before a block changes that: `<!-- not run: REASON -->` skips it;
@@ -43,6 +44,7 @@ RUN_PAGES = [
     *sorted((DOCS / "tutorials").glob("*.md")),
     *sorted((DOCS / "how-to").glob("*.md")),
     DOCS / "rock-mass.md",
+    DOCS / "reference" / "api" / "api.md",
 ]
 ALL_PAGES = [README, *sorted(DOCS.rglob("*.md"))]
 SHOWN_INPUTS = ("docs/examples/", "configs/scenes/", "configs/sweeps/")

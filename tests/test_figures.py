@@ -23,7 +23,8 @@ from bbmc.config import load_config, read_yaml
 from bbmc.dem import layout as L
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.solver import initial_state
-from bbmc.fos.strength_reduction import StrengthReductionResult, Trial, factor_of_safety
+from bbmc.fos.result import StrengthReductionResult, Trial
+from bbmc.fos.strength_reduction import factor_of_safety
 from bbmc.outputs.figures import (
     WATER_COLOUR,
     bracketing_figure,
@@ -143,6 +144,7 @@ def _reduction(model: Model, bracket: tuple[float, float], moved: bool = True) -
         mechanism_blocks=shifted if moved else None,
         failure_displacement_m=0.1,
         laws_losing_cohesion=[],
+        model=model,
     )
 
 
@@ -158,7 +160,7 @@ def test_scene_and_mechanism_draw_the_phreatic_surface_and_the_seismic_load(towa
     world = initial_state(model).world
     figures = [
         scene_figure(model, world, world, model.dof, 80),
-        mechanism_figure(model, _reduction(model, (1.1, 1.12)), 80),
+        mechanism_figure(_reduction(model, (1.1, 1.12)), 80),
     ]
     for fig in figures:
         water = [line for line in fig.axes[0].lines if line.get_label().startswith("phreatic surface")]
@@ -180,7 +182,7 @@ def test_a_scene_without_water_or_seismic_load_draws_neither():
     world = initial_state(model).world
     for fig in (
         scene_figure(model, world, world, model.dof, 80),
-        mechanism_figure(model, _reduction(model, (1.1, 1.12)), 80),
+        mechanism_figure(_reduction(model, (1.1, 1.12)), 80),
     ):
         assert not [line for line in fig.axes[0].lines if "phreatic" in line.get_label()]
         assert not _annotations(fig)
@@ -189,16 +191,16 @@ def test_a_scene_without_water_or_seismic_load_draws_neither():
 @pytest.mark.parametrize(
     "bracket, moved, title",
     [
-        ((1.1, 1.12), True, "FS = 1.110, lowest failing trial F = 1.120"),
-        ((20.0, math.inf), False, "FS > 20.000: no trial failed"),
-        ((0.0, 0.05), True, "FS < 0.050: every trial failed, the lowest at F = 0.050"),
+        ((1.1, 1.12), True, "FS = 1.11, lowest failing trial F = 1.12"),
+        ((20.0, math.inf), False, "FS > 20: no trial failed"),
+        ((0.0, 0.05), True, "FS < 0.05: every trial failed, the lowest at F = 0.05"),
     ],
 )
 def test_the_mechanism_title_gives_the_factor_of_safety(bracket, moved, title):
     model = _loaded_crack()
     result = _reduction(model, bracket, moved)
     assert fos_title(result) == title
-    drawn = mechanism_figure(model, result, 80).axes[0].get_title()
+    drawn = mechanism_figure(result, 80).axes[0].get_title()
     assert drawn.startswith(f"planar_crack: {title}\n")
     assert drawn.endswith("(scaled)" if moved else "no mechanism")
 
@@ -273,7 +275,7 @@ def test_the_mechanism_arrows_point_as_the_blocks_moved_end_inside_the_axes_and_
     angle = math.radians(35.0)
     result.mechanism_blocks[free, L.X] = result.start_blocks[free, L.X] - 0.004 * math.cos(angle)
     result.mechanism_blocks[free, L.Y] = result.start_blocks[free, L.Y] - 0.004 * math.sin(angle)
-    ax = mechanism_figure(model, result, 80).axes[0]
+    ax = mechanism_figure(result, 80).axes[0]
     assert ax.get_aspect() == 1.0
     (arrows,) = [c for c in ax.collections if isinstance(c, Quiver)]
     assert arrows.angles == "xy" and arrows.scale_units == "xy"
@@ -300,7 +302,7 @@ def test_run_fos_and_sweep_figures_draw_every_text_inside_the_canvas(tmp_path):
         ),
         "history": history_figure(result.history, 120),
         "history of one monitor": history_figure(result.history[["step", "time_s", "slider_x_mm"]], 120),
-        "mechanism": mechanism_figure(model, reduction, 120),
+        "mechanism": mechanism_figure(reduction, 120),
         "bracketing": bracketing_figure(reduction, 120),
     }
     study = load_config(CONFIGS / "sweeps" / "toppling.yaml", sweep.Config)

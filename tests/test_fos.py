@@ -180,8 +180,8 @@ def test_bbmc_fos_runs_the_hand_written_scene(tmp_path):
     summary = pd.read_csv(folder / "summary.csv").set_index("quantity")["value"]
     mechanism = pd.read_csv(folder / "mechanism.csv")
     assert list(mechanism.columns) == [
-        "trial", "factor", "block", "x_m", "y_m", "ux_mm", "uy_mm", "rotation_deg",
-        "vx_m_s", "vy_m_s", "angular_velocity_deg_s",
+        "trial", "factor", "block_id", "block", "group", "free", "size_m", "x_m", "y_m", "ux_mm", "uy_mm",
+        "displacement_mm", "rotation_deg", "vx_m_s", "vy_m_s", "angular_velocity_deg_s",
     ]  # fmt: skip
     blocks = build_model(load_config(HAND_WRITTEN, Scene), HAND_WRITTEN).block_names
     by_trial = {kind: rows.set_index("block") for kind, rows in mechanism.groupby("trial")}

@@ -525,7 +525,7 @@ def test_the_figures_draw_the_bolts_coloured_by_their_load():
     model = load_scene(CONFIGS / "scenes" / "bolted_planar.yaml")
     result = factor_of_safety(model)
     figures = [
-        mechanism_figure(model, result, 60),
+        mechanism_figure(result, 60),
         scene_figure(
             model, result.start_world, result.start_world, model.dof, 60, (model.blocks, result.support_state)
         ),

@@ -98,3 +98,44 @@ def test_meaningless_support_is_refused():
         tp.toe_force(EXAMPLE, 0.6, GAMMA, support=tp.BlockSupport.on_block(EXAMPLE, 1, 1.0, 0.0, 99.0))
     with pytest.raises(ValueError, match="needs its unit weight"):
         tp.factor_of_safety(EXAMPLE, 0.6, support=tp.BlockSupport.on_block(EXAMPLE, 1, 1.0, 0.0, 0.0))
+
+
+def _toppling_toe() -> tp.BlockSystem:
+    """Two blocks 2 m wide on bases at 30°, steps b = 0.5 m: the toe y_1 = 6 m (L_1 = −b: its lower
+    force would act below its pivot), the top block y_2 = 8 m; they touch at M_1 = 6 m, L_2 = 5.5 m."""
+    return tp.BlockSystem(np.array([6.0, 8.0]), np.array([6.0, 0.0]), np.array([-0.5, 5.5]), 2.0, 30 * DEG)
+
+
+def test_a_horizontal_support_holds_a_toppling_toe_block_by_hand():
+    """φ_p = φ_d = 35°, γ = 25 kN/m³. By hand (kN/m, kN m/m):
+    top block: W_2 = 25·8·2 = 400; toppling moment (W_2/2)(8 sin 30° − 2 cos 30°) = 200·2.2679 = 453.6,
+      P_1,t = 453.6/5.5 = 82.47; P_1,s = −400 (tan 35° cos 30° − sin 30°)/(1 − tan² 35°) = −83.5: it
+      topples and pushes the toe with P_1 = 82.47.
+    toe: W_1 = 300; moment P_1 (M_1 − Δx tan 35°) + (W_1/2)(6 sin 30° − 2 cos 30°)
+      = 82.47·4.5996 + 150·1.2679 = 379.3 + 190.2 = 569.5 > 0: it topples, and no force at L_1 = −0.5 m
+      can hold it (the old code refused: "needs its point of application").
+    A horizontal force T at h = 3 m (half the toe's height) has T_s = T cos 30° with the arm h:
+      T = 569.5/(cos 30°·3) = 219.2. Sliding asks less: P_0,s = 82.47 + 300 (sin 30° − tan 35° cos 30°)/
+      (1 − tan² 35°) = 19.85, T (cos 30° + tan 35° sin 30°) ≥ (1 − tan² 35°)·19.85 → T ≥ 8.32.
+    The system holds with 1.001 T and fails with 0.999 T. Tolerance 0.05 kN/m (the hand rounding)."""
+    blocks, phi = _toppling_toe(), 35 * DEG
+    t = tp.horizontal_toe_support(blocks, phi, 25e3, height=3.0)
+    assert t / 1e3 == pytest.approx(219.2, abs=0.05)
+    assert float(tp.toe_force(blocks, phi, 25e3)) == math.inf  # unsupported: not held
+    for factor, holds in ((1.001, True), (0.999, False)):
+        support = tp.BlockSupport.on_block(blocks, 1, factor * t, 30 * DEG, 3.0)
+        assert (float(tp.toe_force(blocks, phi, 25e3, support=support)) <= 0.0) == holds
+    # at its top the same moment needs half the force
+    assert tp.horizontal_toe_support(blocks, phi, 25e3, height=6.0) == pytest.approx(t / 2, rel=1e-12)
+
+
+def test_a_support_placed_by_its_level_on_the_face():
+    """Hoek & Bray's rounded system: block n's exposed face spans max(L_n, 0) to y_n above its base;
+    the toe's foot is the toe. A level of 2 m is on the toe block's face, 2/cos 30° = 2.309 m up it; a
+    level just above the toe's top (4 cos 30° = 3.464 m) is on its top, 0.1/sin 30° = 0.2 m in."""
+    face = tp.face_support(EXAMPLE, 2.0, 1e5, 0.0)
+    assert face.force[0] == 1e5 and face.height[0] == pytest.approx(2.0 / math.cos(30 * DEG), rel=1e-12)
+    assert face.angle[0] == pytest.approx(30 * DEG, rel=1e-12)  # horizontal: θ = α
+    top = tp.face_support(EXAMPLE, 4 * math.cos(30 * DEG) + 0.1, 1e5, 10 * DEG)
+    assert top.height[0] == 4.0 and top.offset[0] == pytest.approx(0.2, rel=1e-9)
+    assert top.angle[0] == pytest.approx(40 * DEG, rel=1e-12)

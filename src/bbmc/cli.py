@@ -23,7 +23,7 @@ from bbmc.config import ConfigError, load_config
 from bbmc.io import provenance, write_stage
 from bbmc.progress import Progress
 from bbmc.progress_bar import ProgressBar
-from bbmc.scene.schema import Scene
+from bbmc.scene.paths import with_threads
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
@@ -209,13 +209,6 @@ _THREADS = click.option(
 )
 
 
-def _with_threads(scene: Scene, threads: int | None) -> Scene:
-    """The scene with solver.threads set to `threads` (the --threads option), or as it is (None)."""
-    if threads is None:
-        return scene
-    return scene.model_copy(update={"solver": scene.solver.model_copy(update={"threads": threads})})
-
-
 @main.command(name="run")
 @_file_options("run", "scene")
 @click.option("--vtk", is_flag=True, help="Also write vtk/: every record for ParaView (VTU + PVD).")
@@ -233,7 +226,7 @@ def run_command(config_path: Path, results: str, strict: bool, vtk: bool, thread
     and writes nothing.
     """
     with reported(run_stage.NAME, strict):
-        scene = _with_threads(load_config(config_path, run_stage.Config), threads)
+        scene = with_threads(load_config(config_path, run_stage.Config), threads)
         progress = ProgressBar(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
             with scene_at_fault(config_path):
@@ -263,20 +256,21 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
     with a design: section, design.csv. Each trial is reported on stderr once the search has lasted 2 s.
     """
     with reported(fos_stage.NAME, strict):
-        scene = _with_threads(load_config(config_path, fos_stage.Config), threads)
+        scene = with_threads(load_config(config_path, fos_stage.Config), threads)
         started = time.perf_counter()
 
-        def progress(line: str) -> None:
+        def progress(report: Progress) -> None:
             if time.perf_counter() - started >= 2.0:
-                click.echo(f"bbmc fos: {line}", err=True)
+                click.echo(f"bbmc fos: {report.text}", err=True)
 
         with scene_at_fault(config_path):
-            result, outcome, design = fos_stage.run(scene, config_path, progress)
+            result, found = fos_stage.run(scene, config_path, progress)
         out_dir = Path(results) / fos_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(fos_stage.NAME, config_path, scene))
+    outcome = found.result
     bound = "" if outcome.bracketed else " (not bracketed: beyond the searched range)"
     click.echo(
-        f"bbmc fos: factor of safety {outcome.factor_of_safety:.4g}{bound}, "
+        f"bbmc fos: factor of safety {outcome.factor_of_safety_text}{bound}, "
         f"{len(outcome.trials)} trials, {time.perf_counter() - started:.1f} s"
     )
     if outcome.progressive_note:
@@ -285,8 +279,8 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
         click.echo(f"bbmc fos: {outcome.failing_note}")
     if outcome.elastic_start_note:
         click.echo(f"bbmc fos: warning: {outcome.elastic_start_note}", err=True)
-    note = design.note if design is not None else ""
-    for line in fos_stage.support_summary_lines(scene, result.tables["summary"], note):
+    note = found.design.note if found.design is not None else ""
+    for line in fos_stage.support_summary_lines(scene, result.tables["summary"], found.unsupported, note):
         click.echo(f"bbmc fos: {line}")
     report_written(fos_stage.NAME, out_dir, written)
 

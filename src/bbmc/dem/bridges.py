@@ -23,6 +23,24 @@ def failure_mode(slipped: np.ndarray) -> np.ndarray:
     return np.where(slipped == 0.0, 0, 1 + (slipped.astype(np.int64) + 1) % 2)
 
 
+COLUMNS = [
+    "block_a",
+    "block_b",
+    "law",
+    "edge_label",
+    "x_m",
+    "y_m",
+    "shares",
+    "shares_broken",
+    "in_shear",
+    "in_tension",
+    "first_broken_by_step",
+    "first_broken_by_time_s",
+    "broken_through_by_step",
+    "broken_through_by_time_s",
+]  # bridges.csv, in the order of a row's keys (`BridgeLog._new_row`)
+
+
 class BridgeLog:
     """Called with the state at every record step (`simulate`'s on_record); `table()` at the end."""
 
@@ -77,4 +95,4 @@ class BridgeLog:
     def table(self) -> pd.DataFrame:
         """One row per bridge contact seen, in the order first seen: where it is, how many of its
         shares broke and how, and by which record step (-1: not broken)."""
-        return pd.DataFrame(list(self.rows.values()))
+        return pd.DataFrame(list(self.rows.values()), columns=COLUMNS)

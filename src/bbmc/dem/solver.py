@@ -22,12 +22,15 @@ from bbmc.config import load_config
 from bbmc.dem import joint_state, kernels, motion, time_step
 from bbmc.dem import layout as L
 from bbmc.dem import monitors as mon
+from bbmc.dem.bridges import BridgeLog
 from bbmc.dem.contact_search import search_contacts
 from bbmc.dem.detection import candidate_pairs, vertex_penetration
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.state import State
 from bbmc.dem.stopping import STOP_REASONS, Watch, far_from_balance, moved_beyond_stop, stop_reason, unsettled
+from bbmc.dem.support_report import support_table
 from bbmc.kernel_cache import announce_engine_compile
+from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.scene.schema import Scene
 
 TIME_STEP_MODES = {"auto": 0, "fixed": 1, "density_scaling": 2}
@@ -48,11 +51,35 @@ class SimulationError(Exception):
 
 @dataclass
 class RunResult:
+    """A scene's run (`simulate`, `bbmc.api.run`): the tables `bbmc run` writes, as DataFrames whose
+    column names carry their units (every column in docs/scene-format.md#outputs).
+
+    Attributes:
+        history: history.csv: `step`, `time_s`, then one column `<name>_<unit>` per monitor of the
+            scene, at step 0 and every record step.
+        blocks: blocks.csv, every block at the end: `block`, `group`, `x0_m`, `y0_m` (its centroid at
+            the start), `x_m`, `y_m`, `ux_mm`, `uy_mm`, `rotation_deg`, `vx_m_s`, `vy_m_s`.
+        contacts: contacts.csv: every sub-contact at the end, its place, joint law, stresses [MPa],
+            stiffnesses [MPa/mm], strength and displacements [mm] (inactive ones have length_m 0).
+        summary: summary.csv: `quantity`, `value`, `unit` rows (steps, time, stop reason, time-step
+            range, contact searches, interpenetration, warnings).
+        warnings: the run's warnings, one line each (warnings.csv).
+        bridges: bridges.csv: each rock bridge (a contact whose law breaks into a joint), where it is,
+            how many of its shares broke and how, and by which record step (-1: not broken); no rows
+            for a scene without bridges.
+        support: support.csv: each support element at the end, its forces and capacities [kN per
+            bolt] and its state; no rows for a scene without support.
+        state: the engine's arrays at the end (`bbmc.dem.state.State`: SI units, the
+            `bbmc.dem.layout` columns).
+    """
+
     history: pd.DataFrame
     blocks: pd.DataFrame
     contacts: pd.DataFrame
     summary: pd.DataFrame
     warnings: list[str]
+    bridges: pd.DataFrame
+    support: pd.DataFrame
     state: State
 
 
@@ -359,14 +386,14 @@ def _cycles(model: Model, state: State, n_steps: int) -> int:
 
 def simulate(
     model: Model,
-    progress: Callable[[int], None] | None = None,
+    progress: ProgressCallback = ignore,
     on_record: Callable[[State], None] | None = None,
 ) -> RunResult:
     """Run the scene: `solver.steps` cycles, or fewer if the stop condition is met.
 
-    `progress(n)` is called with the number of cycles done since its last call; `on_record(state)` at
-    step 0 and at every record step, for callers that keep more than the monitors (it must not change
-    the state).
+    `progress` is called with a `bbmc.progress.Progress` in steps (of solver.steps) at every record
+    step; `on_record(state)` at step 0 and at every record step, for callers that keep more than the
+    monitors (it must not change the state).
     """
     solver, warnings = model.scene.solver, []
     if len(model.support.names) and solver.time_step.safety_factor > SLACK_SAFETY:
@@ -380,8 +407,10 @@ def simulate(
     joints = mon.JointMonitors.of(model)
     every = model.scene.monitoring.every_steps
     records = [_record(model, state, reference, joints)]
-    if on_record:
-        on_record(state)
+    bridges = BridgeLog(model)
+    observe = [o for o in (on_record, bridges if model.has_bridges else None) if o is not None]
+    for o in observe:
+        o(state)
     stopped_by = ""
     trend = Watch.of(model, state)
     energy_before = math.nan
@@ -390,12 +419,11 @@ def simulate(
         if before + chunk == solver.steps:  # only the last chunk's energy is read (`unsettled`)
             energy_before = mon.kinetic_energy(state.blocks)
         advance(model, state, chunk)
-        if progress:
-            progress(state.step - before)  # a displacement stop can end a chunk early
+        progress(Progress(state.step, solver.steps, "steps", f"step {state.step} of {solver.steps}"))
         _check_overlap(model, state, warnings)
         records.append(_record(model, state, reference, joints))
-        if on_record:
-            on_record(state)
+        for o in observe:
+            o(state)
         stopped_by = stop_reason(model, state, reference) or (
             trend.verdict(model, state, reference) if trend else ""
         )
@@ -407,6 +435,8 @@ def simulate(
         contacts=mon.contact_table(model, state.contacts, state.subs, state.n_sub),
         summary=_summary(model, state, stopped_by, warnings),
         warnings=warnings,
+        bridges=bridges.table(),
+        support=support_table(model.support, model.block_names, state.support),
         state=state,
     )
 

@@ -44,6 +44,7 @@ from bbmc.dem.solver import initial_state, prepare
 from bbmc.dem.support_elements import anchor_capacity_kN
 from bbmc.dem.water import add_water_loads
 from bbmc.fos.strength_reduction import StrengthReductionResult, factor_of_safety
+from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.support.config import Anchor, Design, Tendon
 
 PARALLEL = math.radians(1.0)  # contacts of one plane: their edges within this angle of each other
@@ -235,10 +236,9 @@ def _search(
     return ok
 
 
-def design_support(
-    model: Model, path: Path, progress: Callable[[str], None] = lambda _: None
-) -> DesignResult:
-    """The design of the scene's `design:` section (module docstring)."""
+def design_support(model: Model, path: Path, progress: ProgressCallback = ignore) -> DesignResult:
+    """The design of the scene's `design:` section (module docstring); `progress` gets a
+    `bbmc.progress.Progress` in trials (limit equilibrium's and the engine's) after each."""
     design = model.scene.design
     started = time.perf_counter()
     low, high = design.range
@@ -249,14 +249,16 @@ def design_support(
         begun = time.perf_counter()
         fs = fs_of(varied_model(model, design, value, path))
         rows.append((stage, value, fs, time.perf_counter() - begun))
-        progress(f"design: {stage.replace('_', ' ')}, {design.vary} {value:.4g}: FS {fs:.3f}")
+        text = f"design: {stage.replace('_', ' ')}, {design.vary} {value:.4g}: FS {fs:.3f}"
+        progress(Progress(len(rows), None, "trials", text))
         return fs
 
     problem = planar_limit_equilibrium(model)
     note = problem if isinstance(problem, str) else ""
     start = unsafe_end
     if note:
-        progress(f"design: no limit-equilibrium stage ({note}): the engine alone searches")
+        text = f"design: no limit-equilibrium stage ({note}): the engine alone searches"
+        progress(Progress(0, None, "trials", text))
     else:
         le = _search(
             lambda v: (

@@ -48,7 +48,7 @@ import dataclasses
 import difflib
 import math
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -64,115 +64,11 @@ from bbmc.dem.state import State
 from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
 from bbmc.fos import gradual
 from bbmc.fos.elastic_start import no_equilibrium
+from bbmc.fos.result import FromRest, StrengthReductionResult, Trial
+from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.scene.fos_settings import StrengthReduction
 
 ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start state of a scene not in equilibrium unreduced
-
-
-@dataclass(frozen=True)
-class Trial:
-    """One trial: its factor, verdict and why, steps run, the largest vertex displacement from the
-    start state [m], the unbalanced-force ratio at its end [1], its wall time [s], and the block that
-    moved most (of those judged: `fos.judge`) and its size."""
-
-    factor: float
-    verdict: str
-    reason: str  # equilibrium | displacement | not_settled
-    steps: int
-    largest_displacement_m: float
-    unbalanced_force_ratio: float
-    seconds: float
-    block: str = ""  # the judged block that moved most
-    block_size_m: float = math.nan  # its size (square root of its area) [m]
-
-
-@dataclass(frozen=True)
-class FromRest:
-    """The scene's run from rest with its strengths as given (the unreduced equilibrium, as `bbmc run`
-    runs it): its verdict and why, its steps, and the block that moved most and how far [m]."""
-
-    verdict: str
-    reason: str
-    steps: int
-    block: str
-    largest_displacement_m: float
-
-
-@dataclass
-class StrengthReductionResult:
-    factor_of_safety: float
-    bracket: tuple[float, float]  # the last stable and the first unstable factor found
-    bracketed: bool  # False: FS lies beyond the searched range; factor_of_safety is that bound
-    start: str  # unreduced | elastic
-    equilibrium_steps: int
-    equilibrium_seconds: float
-    trials: list[Trial]
-    start_world: np.ndarray  # the vertices at the start of every trial [m]
-    mechanism_world: np.ndarray | None  # the vertices at the end of the lowest unstable trial [m]
-    # the blocks' rows (`layout`) at the start of every trial, at the end of the highest stable trial
-    # (the start state where none ran: F = 1 holds by the equilibrium) and of the lowest unstable one
-    start_blocks: np.ndarray
-    stable_blocks: np.ndarray
-    mechanism_blocks: np.ndarray | None
-    failure_displacement_m: float
-    laws_losing_cohesion: list[
-        str
-    ]  # joint laws in use with `after_slip: zero` (`Model.laws_losing_cohesion`)
-    # the support elements' rows at the end of the highest stable trial (none without support)
-    support_state: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((0, L.SUPPORT_COLUMNS)))
-    from_rest: FromRest | None = None  # the run from rest with the strengths as given
-    median_block_size_m: float = math.nan  # of the blocks free to move
-
-    @property
-    def failing_trial(self) -> Trial | None:
-        """The lowest unstable trial (None if none failed): its block that moved most failed first."""
-        failed = [t for t in self.trials if t.verdict == UNSTABLE]
-        return min(failed, key=lambda t: t.factor) if failed else None
-
-    @property
-    def failing_note(self) -> str:
-        """One line naming the block that failed in the lowest unstable trial, where it is smaller than
-        half the median block (a sliver may set the FS: `fos.judge`); "" otherwise."""
-        trial = self.failing_trial
-        if trial is None or not trial.block or not trial.block_size_m < 0.5 * self.median_block_size_m:
-            return ""
-        moved_mm, relative = trial.largest_displacement_m * 1e3, trial.block_size_m / self.median_block_size_m
-        return (
-            f"at F = {trial.factor:.4g} block '{trial.block}' failed first ({moved_mm:.3g} mm), "
-            f"{relative:.2g} x the median block's size: fos.judge asks for the FS of the blocks that matter"
-        )
-
-    @property
-    def elastic_start_note(self) -> str:
-        """One line for an FS taken from the elastic start, beside the run from rest ("" otherwise)."""
-        rest = self.from_rest
-        if self.start != "elastic" or rest is None:
-            return ""
-        held = "holds" if self.factor_of_safety >= 1.0 else "fails too"
-        why = rest.reason.replace("_", " ")
-        return (
-            f"the scene does not stand from rest with its strengths as given ({why} "
-            f"in {rest.steps} steps, block '{rest.block}' moved {rest.largest_displacement_m * 1e3:.3g} mm: "
-            "what bbmc run shows); this FS is from the elastic start (every strength x 1e6 to equilibrium, "
-            f"then as given), where F = 1 {held}: a slope loaded gradually, not all at once"
-        )
-
-    def moved(self, end: np.ndarray) -> np.ndarray:
-        """Each block's centroid displacement x, y [m] and rotation [rad] from the start of the trials to
-        `end` (the blocks' rows at the end of one: `stable_blocks`, `mechanism_blocks`)."""
-        columns = [L.X, L.Y, L.TH]
-        return end[:, columns] - self.start_blocks[:, columns]
-
-    @property
-    def progressive_note(self) -> str:
-        """One line for a scene whose joints lose their cohesion at the first slip ("" otherwise)."""
-        if not self.laws_losing_cohesion:
-            return ""
-        names = ", ".join(f"'{name}'" for name in self.laws_losing_cohesion)
-        return (
-            f"joint law {names} loses its cohesion at the first slip (after_slip: zero, UDEC's Coulomb "
-            "slip): this FS includes progressive failure and lies below limit equilibrium's"
-        )
 
 
 def reduced_params(model: Model, factor: float, reduction: str) -> np.ndarray:
@@ -368,14 +264,19 @@ def _support_response_steps(model: Model, state: State) -> int:
     return math.ceil(period / state.clock[L.DT]) if period > 0 else 0
 
 
-def factor_of_safety(
-    model: Model, progress: Callable[[str], None] = lambda _: None
-) -> StrengthReductionResult:
-    """The scene's factor of safety by strength reduction (module docstring), with every trial."""
+def factor_of_safety(model: Model, progress: ProgressCallback = ignore) -> StrengthReductionResult:
+    """The scene's factor of safety by strength reduction (module docstring), with every trial.
+    `progress` is called with a `bbmc.progress.Progress` in trials (total None: the search ends when
+    the bracket is narrow enough) before the equilibrium, after it, and after every trial."""
     settings = model.scene.fos
+
+    def report(text: str) -> None:
+        progress(Progress(len(trials), None, "trials", text))
+
+    trials: list[Trial] = []
     failure = failure_displacement(model)
     reference = mon.reference_force(model)
-    progress("equilibrium with the strengths as given")
+    report("equilibrium with the strengths as given")
     judged = Judged.of(model)
     start, equilibrium, n_r, eq_seconds, from_rest = _equilibrium(model, settings, failure, reference, judged)
     support_steps = _support_response_steps(model, equilibrium)
@@ -385,8 +286,7 @@ def factor_of_safety(
     )
     budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * response))
     window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * response))
-    progress(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
-    trials: list[Trial] = []
+    report(f"equilibrium ({start}) in {n_r} steps; each trial runs up to {budget} steps")
     mechanism, mechanism_blocks = None, None
     held, stable_blocks = equilibrium.support.copy(), equilibrium.blocks.copy()
 
@@ -449,7 +349,7 @@ def factor_of_safety(
             block_size_m=size,
         )
         trials.append(trial)
-        progress(
+        report(
             f"trial {len(trials)}: F = {factor:.4g} {verdict} ({reason}, {trial.steps} steps, "
             f"{trial.seconds:.1f} s)"
         )
@@ -492,4 +392,5 @@ def factor_of_safety(
         mechanism_blocks=mechanism_blocks,
         from_rest=from_rest,
         median_block_size_m=_median_size(model),
+        model=model,
     )

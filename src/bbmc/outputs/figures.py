@@ -25,7 +25,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 from bbmc.dem.monitors import UNITS
 from bbmc.dem.support_report import per_bolt_kN, support_lines
-from bbmc.fos.strength_reduction import StrengthReductionResult
+from bbmc.fos.result import StrengthReductionResult, bracket_decimals
 from bbmc.rockmass.figure import edge_style, set_colours
 
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
@@ -329,17 +329,19 @@ def _shade_blocks(ax: Axes, model: Model, start: list[np.ndarray], moved: np.nda
     )
 
 
-def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) -> Figure:
-    """The failure mechanism: every block where the trials start, shaded by how far it has moved (its
-    farthest vertex) at the end of the lowest unstable trial, with its centroid's displacement as an
-    arrow to the scale of a labelled scale arrow (`_draw_arrows`). The colour scale ends at the largest
-    displacement, or, where that is more than twice the displacement below which 95 % of the free
-    blocks' area lies, at the latter (`colour_top`), so that one sliver does not set it: the blocks
-    beyond it are red, the colour bar's label giving their range. The title
-    gives the FS (`fos_title`); the water and seismic loads as `draw_loads` draws them; the bolts at
-    the blocks' start, coloured by their load in the last stable trial (`draw_support`)."""
+def mechanism_figure(result: StrengthReductionResult, dpi: int | None = None) -> Figure:
+    """mechanism.png: the failure mechanism of a strength reduction. Every block where the trials
+    start, shaded by how far it has moved (its farthest vertex) at the end of the lowest unstable trial,
+    with its centroid's displacement as an arrow to the scale of a labelled scale arrow
+    (`_draw_arrows`). The colour scale ends at the largest displacement, or, where that is more than
+    twice the displacement below which 95 % of the free blocks' area lies, at the latter
+    (`colour_top`), so that one sliver does not set it: the blocks beyond it are red, the colour bar's
+    label giving their range. The title gives the FS (`fos_title`); the water and seismic loads as
+    `draw_loads` draws them; the bolts at the blocks' start, coloured by their load in the last stable
+    trial (`draw_support`). `dpi`: the scene's figure_dpi unless given."""
+    model = result.model
     points = result.start_world
-    fig = shaped_figure(points, dpi)
+    fig = shaped_figure(points, dpi or model.scene.figure_dpi)
     ax = fig.subplots()
     start = _outlines(model, result.start_world)
     if result.mechanism_world is None:
@@ -367,19 +369,21 @@ def mechanism_figure(model: Model, result: StrengthReductionResult, dpi: int) ->
 
 
 def fos_title(result: StrengthReductionResult) -> str:
-    """The factor of safety and the trial the mechanism comes from: "FS = 1.110, lowest failing trial
-    F = 1.117"; beyond the searched range, the bound it lies beyond."""
-    fs, failing = result.factor_of_safety, result.bracket[1]
+    """The factor of safety (`factor_of_safety_text`) and the trial the mechanism comes from, to the
+    same decimals: "FS = 1.113, lowest failing trial F = 1.117"; beyond the searched range, the bound
+    it lies beyond."""
+    fs, failing = result.factor_of_safety_text, result.bracket[1]
     if result.bracketed:
-        return f"FS = {fs:.3f}, lowest failing trial F = {failing:.3f}"
+        return f"FS = {fs}, lowest failing trial F = {failing:.{bracket_decimals(result.bracket)}f}"
     if math.isinf(failing):
-        return f"FS > {fs:.3f}: no trial failed"
-    return f"FS < {fs:.3f}: every trial failed, the lowest at F = {failing:.3f}"
+        return f"FS {fs}: no trial failed"
+    return f"FS {fs}: every trial failed, the lowest at F = {failing:.4g}"
 
 
-def bracketing_figure(result: StrengthReductionResult, dpi: int) -> Figure:
-    """Each trial's F in the order run, stable or unstable, and the factor of safety found."""
-    fig = Figure(figsize=(7, 4), dpi=dpi)
+def bracketing_figure(result: StrengthReductionResult, dpi: int | None = None) -> Figure:
+    """bracketing.png: each trial's F in the order run, stable or unstable, and the factor of safety
+    found (`factor_of_safety_text`). `dpi`: the scene's figure_dpi unless given."""
+    fig = Figure(figsize=(7, 4), dpi=dpi or result.model.scene.figure_dpi)
     ax = fig.subplots()
     order = np.arange(1, len(result.trials) + 1)
     factors = np.array([t.factor for t in result.trials])
@@ -387,9 +391,9 @@ def bracketing_figure(result: StrengthReductionResult, dpi: int) -> Figure:
     ax.plot(order, factors, "-", color="0.6", zorder=1)
     ax.plot(order[stable], factors[stable], "o", color="tab:green", label="stable (holds)")
     ax.plot(order[~stable], factors[~stable], "x", color="tab:red", ms=8, mew=2, label="unstable (fails)")
-    label = "FS" if result.bracketed else "FS beyond the searched range"
-    fs = result.factor_of_safety
-    ax.axhline(fs, color="k", ls="--", lw=1, label=f"{label} = {fs:.3f}")
+    text = result.factor_of_safety_text
+    label = f"FS = {text}" if result.bracketed else f"FS {text}: beyond the searched range"
+    ax.axhline(result.factor_of_safety, color="k", ls="--", lw=1, label=label)
     ax.set_xlabel("trial")
     ax.set_ylabel("strength reduction factor F")
     start = "unreduced" if result.start == "unreduced" else "elastic (no equilibrium unreduced)"

@@ -12,7 +12,7 @@ import itertools
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import AfterValidator, Field, model_validator
 
 from bbmc.config import ConfigError, Section
 from bbmc.geometry.polygons import MAX_BLOCKS
@@ -449,8 +449,20 @@ class Monitoring(Section):
     monitors: list[Monitor] = Field(default_factory=list)
 
 
+def _file_name(name: str) -> str:
+    """A scene's name names its results folder: any name a file system takes (`benched_f62.5`, spaces,
+    letters of any language), refused only where it cannot be one folder's name: empty, "." or "..",
+    or with a path separator (/ or \\) or a NUL character."""
+    if name in {"", ".", ".."} or any(c in name for c in "/\\\0"):
+        raise ValueError("not a folder's name: empty, '.', '..', or with '/', '\\' or a NUL character")
+    return name
+
+
+FileName = Annotated[str, AfterValidator(_file_name)]
+
+
 class Scene(Section):
-    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_\-]+$")] | None = None  # [the file name]
+    name: FileName | None = None  # [the file name]
     description: str = ""
     thickness_m: Positive = 1.0
     gravity_m_s2: Pair = Field(default_factory=lambda: [0.0, -9.81])

@@ -17,15 +17,12 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
-from bbmc import units
-from bbmc.dem import layout as L
-from bbmc.dem.model import Model, build_model
+from bbmc.dem.model import build_model
 from bbmc.dem.support_elements import SupportElements
 from bbmc.dem.support_report import largest_loads, support_table
 from bbmc.dem.verdict import STABLE
@@ -33,65 +30,11 @@ from bbmc.fos.design import DesignResult, design_support
 from bbmc.fos.strength_reduction import StrengthReductionResult, factor_of_safety
 from bbmc.io import StageResult
 from bbmc.outputs.figures import bracketing_figure, mechanism_figure
+from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.scene.schema import Scene
 
 NAME = "fos"
 Config = Scene
-
-
-def trial_table(result: StrengthReductionResult) -> pd.DataFrame:
-    """fos.csv: one row per trial, in the order run."""
-    return pd.DataFrame(
-        {
-            "trial": range(1, len(result.trials) + 1),
-            "factor": [t.factor for t in result.trials],
-            "verdict": [t.verdict for t in result.trials],
-            "reason": [t.reason for t in result.trials],
-            "steps": [t.steps for t in result.trials],
-            "largest_displacement_mm": [t.largest_displacement_m * 1e3 for t in result.trials],
-            "unbalanced_force_ratio": [t.unbalanced_force_ratio for t in result.trials],
-            "wall_time_s": [t.seconds for t in result.trials],
-            "moved_most_block": [t.block for t in result.trials],
-            "moved_most_block_size_m": [t.block_size_m for t in result.trials],
-        }
-    )
-
-
-def _trial_end(
-    model: Model, result: StrengthReductionResult, kind: str, factor: float, blocks: np.ndarray
-) -> pd.DataFrame:
-    """mechanism.csv's rows of one trial: every block at its end (`blocks`, the blocks' rows)."""
-    moved = result.moved(blocks)
-    return pd.DataFrame(
-        {
-            "trial": kind,
-            "factor": factor,
-            "block": model.block_names,
-            "x_m": result.start_blocks[:, L.X],
-            "y_m": result.start_blocks[:, L.Y],
-            "ux_mm": moved[:, 0] / units.mm,
-            "uy_mm": moved[:, 1] / units.mm,
-            "rotation_deg": moved[:, 2] / units.deg,
-            "vx_m_s": blocks[:, L.VX],
-            "vy_m_s": blocks[:, L.VY],
-            "angular_velocity_deg_s": blocks[:, L.W] / units.deg,
-        }
-    )
-
-
-def mechanism_table(model: Model, result: StrengthReductionResult) -> pd.DataFrame:
-    """mechanism.csv: every block at the end of the highest stable trial (`trial` last_stable; the start
-    state at F = 1 where no stable trial ran) and of the lowest unstable one (first_unstable), each with
-    its factor F: the centroid where the trials start [m], its displacement [mm] and rotation [deg]
-    since then, and its velocity at the trial's last step. A trial the search did not find (none
-    failed, or none held) has no rows; one of the two always is."""
-    lo, hi = result.bracket
-    ends = []
-    if lo > 0.0:
-        ends.append(_trial_end(model, result, "last_stable", lo, result.stable_blocks))
-    if result.mechanism_blocks is not None:
-        ends.append(_trial_end(model, result, "first_unstable", hi, result.mechanism_blocks))
-    return pd.concat(ends, ignore_index=True)
 
 
 def _from_rest_rows(result: StrengthReductionResult) -> list[tuple[str, float, str]]:
@@ -158,12 +101,17 @@ def summary_table(
     return pd.DataFrame(rows, columns=["quantity", "value", "unit"])
 
 
-def support_summary_lines(scene: Scene, summary: pd.DataFrame, design_note: str = "") -> list[str]:
+def support_summary_lines(
+    scene: Scene,
+    summary: pd.DataFrame,
+    unsupported: StrengthReductionResult | None = None,
+    design_note: str = "",
+) -> list[str]:
     """What the command prints of the support and the design (nothing for a scene without them)."""
     value = dict(zip(summary["quantity"], summary["value"], strict=True))
     lines = []
-    if "factor_of_safety_without_support" in value:
-        lines.append(f"without its support: factor of safety {value['factor_of_safety_without_support']:.4g}")
+    if unsupported is not None:
+        lines.append(f"without its support: factor of safety {unsupported.factor_of_safety_text}")
     design = scene.design
     if design is not None:
         unit = "kN" if design.vary == "capacity" else "m"
@@ -182,18 +130,27 @@ def support_summary_lines(scene: Scene, summary: pd.DataFrame, design_note: str 
     return lines
 
 
-def run(
-    scene: Scene, config_path: Path, progress: Callable[[str], None] = lambda _: None
-) -> tuple[StageResult, StrengthReductionResult, DesignResult | None]:
+@dataclass
+class FosRun:
+    """What `bbmc fos` found: the scene's FS, the same without its support (None without support), and
+    the design (None without a `design:` section)."""
+
+    result: StrengthReductionResult
+    unsupported: StrengthReductionResult | None
+    design: DesignResult | None
+
+
+def run(scene: Scene, config_path: Path, progress: ProgressCallback = ignore) -> tuple[StageResult, FosRun]:
     """Build the scene (checking every reference), find its factor of safety, tabulate and draw; and
-    the design, where the scene has one."""
+    the design, where the scene has one. `progress` gets every report of the searches (in trials) and
+    of the design (its text)."""
     started = time.perf_counter()
     model = build_model(scene, config_path)
     result = factor_of_safety(model, progress)
-    tables = {"fos": trial_table(result), "mechanism": mechanism_table(model, result)}
+    tables = {"fos": result.trials_table, "mechanism": result.mechanism}
     unsupported, loads, design = None, None, None
     if len(model.support.names):
-        progress("the same scene without its support")
+        progress(Progress(0, None, "trials", "the same scene without its support"))
         unsupported = factor_of_safety(dataclasses.replace(model, support=SupportElements.none()), progress)
         tables["support"] = support_table(model.support, model.block_names, result.support_state)
         loads = largest_loads(model.support, result.support_state)
@@ -202,8 +159,5 @@ def run(
         tables["design"] = design.trials
     seconds = time.perf_counter() - started
     tables["summary"] = summary_table(result, scene, seconds, unsupported, loads, design)
-    figures = {
-        "bracketing": bracketing_figure(result, scene.figure_dpi),
-        "mechanism": mechanism_figure(model, result, scene.figure_dpi),
-    }
-    return StageResult(tables=tables, figures=figures), result, design
+    figures = {"bracketing": bracketing_figure(result), "mechanism": mechanism_figure(result)}
+    return StageResult(tables=tables, figures=figures), FosRun(result, unsupported, design)

@@ -12,19 +12,16 @@ as VTU files and their PVD collections, for ParaView).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
 import pandas as pd
 
-from bbmc.dem.bridges import BridgeLog
 from bbmc.dem.model import Model, build_model
 from bbmc.dem.solver import RunResult, initial_state, simulate
-from bbmc.dem.state import State
-from bbmc.dem.support_report import support_table
 from bbmc.io import StageResult
 from bbmc.outputs.figures import bridges_figure, history_figure, scene_figure
 from bbmc.outputs.vtk import Series
+from bbmc.progress import ProgressCallback, ignore
 from bbmc.scene.schema import Scene
 
 NAME = "run"
@@ -37,21 +34,14 @@ def output_name(scene: Scene, config_path: Path) -> str:
 
 
 def run(
-    scene: Scene, config_path: Path, progress: Callable[[int], None] | None = None, vtk: bool = False
+    scene: Scene, config_path: Path, progress: ProgressCallback = ignore, vtk: bool = False
 ) -> tuple[StageResult, RunResult]:
     """Build the scene (checking every reference), run it, and gather its tables and figures; with
     `vtk`, also the ParaView series of every record (`bbmc.outputs.vtk`)."""
     model: Model = build_model(scene, config_path)
     initial = initial_state(model).world.copy()
     series = Series(model) if vtk else None
-    log = BridgeLog(model) if model.has_bridges else None
-    observers = [o for o in (series, log) if o is not None]
-
-    def on_record(state: State) -> None:
-        for observe in observers:
-            observe(state)
-
-    result = simulate(model, progress, on_record if observers else None)
+    result = simulate(model, progress, series)
     warnings = pd.DataFrame({"warning": result.warnings}, dtype=object)
     stop = scene.solver.stop
     tables = {
@@ -75,9 +65,9 @@ def run(
         ),
     }
     if len(model.support.names):
-        tables["support"] = support_table(model.support, model.block_names, result.state.support)
-    if log is not None:
-        tables["bridges"] = log.table()
-        figures["bridges"] = bridges_figure(model, result.state.world, tables["bridges"], scene.figure_dpi)
+        tables["support"] = result.support
+    if model.has_bridges:
+        tables["bridges"] = result.bridges
+        figures["bridges"] = bridges_figure(model, result.state.world, result.bridges, scene.figure_dpi)
     files = series.collections() if series else {}
     return StageResult(tables=tables, figures=figures, files=files), result

@@ -31,6 +31,7 @@ from bbmc.dem.solver import SimulationError, simulate
 from bbmc.io import StageResult
 from bbmc.outputs.figures import mechanism_figure
 from bbmc.outputs.vtk import Series
+from bbmc.progress import ProgressCallback, ignore
 from bbmc.scene.schema import JointedSlope
 from bbmc.slope import figures, safety
 from bbmc.slope import limit_equilibrium as le
@@ -48,7 +49,7 @@ class SlopeRun:
         self,
         model: Model,
         numbering: dict[int, int],
-        progress: Callable[[int], None] | None,
+        progress: ProgressCallback,
         series: Series | None = None,
     ) -> None:
         self.model, self.numbering, self.paths, self.series = model, numbering, [], series
@@ -91,7 +92,7 @@ def run_slope(
     kind: sm.JointModel,
     slope: JointedSlope,
     monitor_joints: bool,
-    progress: Callable[[int], None] | None = None,
+    progress: ProgressCallback = ignore,
     vtk_every: int | None = None,
 ) -> SlopeRun:
     """Run one joint model on one slope for run.duration_s of physical time (with `vtk_every`, its
@@ -490,7 +491,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
             "fig10": figures.fig10(moves, fits, dpi),
             "fs_vs_dip": figures.fs_vs_dip(sweep, critical, dpi),
             "dip_sensitivity": figures.dip_sensitivity(dips, dpi),
-            **{f"fos_{kind}": mechanism_figure(*reductions[kind], dpi) for kind in sm.JOINT_MODELS},
+            **{f"fos_{kind}": mechanism_figure(reductions[kind][1], dpi) for kind in sm.JOINT_MODELS},
         },
         files=files,
     )

@@ -68,12 +68,15 @@ class Planar(Section):
 class TopplingSupport(Section):
     """A support force per metre run on one block of the toppling system (`bbmc.slope.toppling.
     BlockSupport`, RocTopple's): on its downhill face at height_m above its base, at angle_deg from the
-    base's up-dip direction towards the base; not reduced with the friction."""
+    base's up-dip direction towards the base (a horizontal force: the base dip); not reduced with the
+    friction. Or placed by level_m, its vertical height above the toe on the slope face, as RocTopple
+    places line loads (`toppling.face_support`: the block and the point from the geometry)."""
 
-    block: Annotated[int, Field(ge=1)]  # 1: the toe block
+    block: Annotated[int, Field(ge=1)] = 1  # 1: the toe block
     force_kN_per_m: Annotated[float, Field(ge=0)]
     angle_deg: Annotated[float, Field(ge=-180, le=180)]
     height_m: Annotated[float, Field(ge=0)] = 0.0
+    level_m: Annotated[float, Field(ge=0)] | None = None
 
 
 class Toppling(Section):
@@ -89,7 +92,11 @@ class Toppling(Section):
     b_m: float
     friction_deg: Angle
     side_friction_deg: Angle | None = None
-    unit_weight_kN_m3: Positive = 26.0  # with a support only (without, the FS does not depend on it)
+    # with a support or water only (without, the FS does not depend on it): density x g if a density is
+    # given, else unit_weight_kN_m3, else 26 kN/m^3
+    density_kg_m3: Positive | None = None
+    unit_weight_kN_m3: Positive | None = None
+    water_level_m: float | None = None  # a horizontal phreatic line this high above the toe (none: dry)
     support: TopplingSupport | None = None
 
     @model_validator(mode="after")
@@ -97,6 +104,8 @@ class Toppling(Section):
         system = toppling.regular_system(
             self.width_m, math.radians(self.base_dip_deg), self.crest_block, self.a1_m, self.a2_m, self.b_m
         )
+        if self.density_kg_m3 is not None and self.unit_weight_kN_m3 is not None:
+            raise ValueError("give density_kg_m3 or unit_weight_kN_m3, not both")
         if self.support is not None and self.support.block > system.n_blocks:
             raise ValueError(
                 f"support.block: the system has blocks 1 to {system.n_blocks}, not {self.support.block}"

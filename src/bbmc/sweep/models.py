@@ -29,40 +29,15 @@ from bbmc.config import ConfigError
 from bbmc.dem.model import built_scene
 from bbmc.dem.solver import SimulationError, simulate
 from bbmc.fos.strength_reduction import factor_of_safety
+from bbmc.scene.paths import get_path as get_path  # the sweep's callers read paths from here
+from bbmc.scene.paths import set_path
 from bbmc.slope import planar, toppling
+from bbmc.slope.limit_equilibrium import G
 
 FS = "factor_of_safety"
 ERROR = "error"
 OUTCOME = "outcome"
 VALID, INVALID, FAILED_RUN = "valid", "invalid", "failed_run"
-
-
-def _step(tree: object, key: str) -> tuple[object, object]:
-    """The child of a mapping (by key) or a list (by index) and the key to reach it."""
-    if isinstance(tree, list):
-        index = int(key) if key.lstrip("-").isdigit() else None
-        if index is None or not -len(tree) <= index < len(tree):
-            raise KeyError(key)
-        return tree[index], index
-    if isinstance(tree, dict) and key in tree:
-        return tree[key], key
-    raise KeyError(key)
-
-
-def get_path(tree: object, path: str) -> object:
-    """The value at a dotted path (list entries by index); KeyError naming the first missing part."""
-    for key in path.split("."):
-        tree, _ = _step(tree, key)
-    return tree
-
-
-def set_path(tree: object, path: str, value: float) -> None:
-    """Set the value at a dotted path that exists (KeyError otherwise)."""
-    *parents, last = path.split(".")
-    for key in parents:
-        tree, _ = _step(tree, key)
-    _, key = _step(tree, last)
-    tree[key] = value
 
 
 def _errors(n: int) -> np.ndarray:
@@ -149,19 +124,29 @@ class PlanarModel:
         return _limit_equilibrium_table(fs, errors, inputs.index)
 
 
-SUPPORT_KEYS = ("block", "force_kN_per_m", "angle_deg", "height_m")  # a toppling base's support
+SUPPORT_KEYS = ("block", "force_kN_per_m", "angle_deg", "height_m", "level_m")  # a toppling base's support
+
+
+DEFAULT_UNIT_WEIGHT_KN_M3 = 26.0  # a toppling base's unit weight without a density or unit weight
 
 
 @dataclass(frozen=True)
 class TopplingModel:
     """Goodman & Bray's toppling (`bbmc.slope.toppling`): the block system built once per geometry, its
-    FS broadcast over the batch's friction angles; a geometry that forms no system fails its samples."""
+    FS broadcast over the batch's friction angles; a geometry that forms no system fails its samples.
+    The unit weight is density x g if the base (or the sample) gives a density, else unit_weight_kN_m3,
+    else 26 kN/m^3; water_level_m puts a horizontal phreatic line that high above the toe."""
 
     base: dict
 
+    def _column(self, inputs: pd.DataFrame, key: str, default: object = None) -> np.ndarray:
+        value = self.base.get(key, default)
+        return np.asarray(inputs[key] if key in inputs else np.full(len(inputs), value, dtype=object))
+
     def _support(self, inputs: pd.DataFrame) -> dict[str, np.ndarray]:
         """The support's values per sample (zero force without a support)."""
-        given = self.base.get("support") or dict.fromkeys(SUPPORT_KEYS, 0.0)
+        given = {"level_m": None, **(self.base.get("support") or dict.fromkeys(SUPPORT_KEYS, 0.0))}
+        given["level_m"] = -math.inf if given["level_m"] is None else given["level_m"]  # -inf: by block
         return {
             key: np.asarray(
                 inputs[f"support.{key}"] if f"support.{key}" in inputs else np.full(len(inputs), given[key]),
@@ -170,26 +155,47 @@ class TopplingModel:
             for key in SUPPORT_KEYS
         }
 
+    def _unit_weight(self, inputs: pd.DataFrame) -> np.ndarray:
+        """[kN/m^3] per sample."""
+        density = self._column(inputs, "density_kg_m3")
+        weight = self._column(inputs, "unit_weight_kN_m3")
+        given = np.array([w if w is not None else DEFAULT_UNIT_WEIGHT_KN_M3 for w in weight], dtype=float)
+        return np.array(
+            [g if d is None else float(d) * G / 1e3 for d, g in zip(density, given, strict=True)], dtype=float
+        )
+
     def __call__(self, inputs: pd.DataFrame) -> pd.DataFrame:
-        keys = ("width_m", "base_dip_deg", "crest_block", "a1_m", "a2_m", "b_m", "unit_weight_kN_m3")
+        keys = ("width_m", "base_dip_deg", "crest_block", "a1_m", "a2_m", "b_m")
         values = {k: inputs[k].to_numpy() if k in inputs else np.full(len(inputs), self.base[k]) for k in
                   (*keys, "friction_deg", "side_friction_deg")}  # fmt: skip
         support = self._support(inputs)
+        level = self._column(inputs, "water_level_m")
+        wet = np.array([-math.inf if v is None else float(v) for v in level])  # -inf: dry (unique, not nan)
         fs, errors = np.full(len(inputs), math.nan), _errors(len(inputs))
-        columns = [np.asarray(values[k], dtype=float) for k in keys] + [support[k] for k in SUPPORT_KEYS]
+        columns = [np.asarray(values[k], dtype=float) for k in keys]
+        columns += [self._unit_weight(inputs), wet] + [support[k] for k in SUPPORT_KEYS]
         geometry = np.column_stack(columns)
         for row in np.unique(geometry, axis=0):
             rows = np.all(geometry == row, axis=1)
-            width, dip, crest, a1, a2, b, unit_weight = row[: len(keys)]
-            block, force, angle, height = row[len(keys) :]
+            width, dip, crest, a1, a2, b, unit_weight, water_level = row[: len(keys) + 2]
+            block, force, angle, height, level = row[len(keys) + 2 :]
             try:
                 system = toppling.regular_system(width, math.radians(dip), int(crest), a1, a2, b)
                 held = (
-                    toppling.BlockSupport.on_block(
+                    None
+                    if force <= 0
+                    else toppling.BlockSupport.on_block(
                         system, int(block), force * 1e3, math.radians(angle), height
                     )
-                    if force > 0
-                    else None
+                    if level == -math.inf
+                    else toppling.face_support(
+                        system, level, force * 1e3, math.radians(angle) - system.base_dip
+                    )
+                )
+                water = (
+                    None
+                    if water_level == -math.inf
+                    else toppling.phreatic_water(system, [-1e9, 1e9], [water_level, water_level])
                 )
                 side = values["side_friction_deg"]
                 fs[rows] = toppling.factor_of_safety(
@@ -198,6 +204,7 @@ class TopplingModel:
                     None if side[0] is None else np.radians(np.asarray(side, dtype=float)[rows]),
                     held,
                     unit_weight * 1e3,
+                    water,
                 )
             except ValueError as error:
                 errors[rows] = str(error)
