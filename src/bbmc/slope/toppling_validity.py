@@ -192,9 +192,13 @@ def study(cases: Iterable[Case], progress: Callable[[str], None] | None = None) 
     return pd.DataFrame(rows)
 
 
-#: The joint stiffness study: the cases whose difference is not the toe's and the quarry, at K [MPa/mm].
-STIFFNESS_CASES = ("s2_a30", "s4_a20", "quarry")
-STIFFNESSES_MPa_per_mm = (1.0, 10.0, 100.0)
+#: The joint stiffness study: the runs (case, K_n = K_s [MPa/mm]) the page shows.
+STIFFNESS_RUNS = (
+    *(("s2_a30", k) for k in (1.0, 10.0, 100.0)),
+    *(("s4_a20", k) for k in (1.0, 10.0, 100.0, 1000.0)),
+    *(("s8_a20", k) for k in (10.0, 100.0)),
+    *(("quarry", k) for k in (1.0, 10.0, 100.0)),
+)
 
 #: The computational settings varied on one case: name → the change to `TrialSettings`.
 SETTINGS_VARIANTS = {
@@ -234,25 +238,24 @@ def stiff_settings(stiffness_MPa_per_mm: float) -> ts.TrialSettings:
     )
 
 
-def stiffness_spread(cases: Iterable[Case], stiffnesses: Iterable[float]) -> pd.DataFrame:
-    """The engine's limiting friction [deg] of each case at each joint stiffness [MPa/mm], beside the
+def stiffness_spread(runs: Iterable[tuple[Case, float]]) -> pd.DataFrame:
+    """The engine's limiting friction [deg] of each case at its joint stiffness [MPa/mm], beside the
     limit equilibrium's (rigid blocks)."""
     rows = []
-    for case in cases:
+    for case, k in runs:
         le = le_limit(case)
-        for k in stiffnesses:
-            start = time.perf_counter()
-            limit = engine_limit(case, stiff_settings(k), le)
-            rows.append(
-                {
-                    "case": case.name,
-                    "stiffness_MPa_per_mm": k,
-                    "le_limit_deg": le,
-                    "engine_limit_deg": limit,
-                    "difference_deg": limit - le,
-                    "seconds": time.perf_counter() - start,
-                }
-            )
+        start = time.perf_counter()
+        limit = engine_limit(case, stiff_settings(k), le)
+        rows.append(
+            {
+                "case": case.name,
+                "stiffness_MPa_per_mm": k,
+                "le_limit_deg": le,
+                "engine_limit_deg": limit,
+                "difference_deg": limit - le,
+                "seconds": time.perf_counter() - start,
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -325,5 +328,5 @@ def write_checks(folder: Path) -> None:
         folder / "toppling-validity-settings.csv", index=False, float_format="%.4f"
     )
     cases = {case.name: case for case in study_cases()}
-    stiff = stiffness_spread([cases[name] for name in STIFFNESS_CASES], STIFFNESSES_MPa_per_mm)
+    stiff = stiffness_spread((cases[name], k) for name, k in STIFFNESS_RUNS)
     stiff.to_csv(folder / "toppling-validity-stiffness.csv", index=False, float_format="%.4f")
