@@ -81,12 +81,13 @@ def test_a_squat_sliding_slope_gives_the_same_limit_on_both():
 
 
 def page_rows() -> dict[str, list[str]]:
-    """The page's table of measured numbers, by case name (its first column, in backticks)."""
+    """The page's table of measured numbers (its 14 columns), by case name (in backticks)."""
     rows = {}
     for line in PAGE.read_text(encoding="utf-8").splitlines():
         match = re.match(r"\| `(\w+)` \|", line)
-        if match:
-            rows[match.group(1)] = [cell.strip() for cell in line.strip("|").split("|")]
+        cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
+        if match and len(cells) == 14:
+            rows[match.group(1)] = cells
     return rows
 
 
@@ -101,3 +102,7 @@ def test_the_pages_numbers_are_what_the_study_measures(name):
     assert float(page[6]) == pytest.approx(row["engine_limit_deg"], abs=0.005)
     assert float(page[7].replace("−", "-")) == pytest.approx(row["difference_deg"], abs=0.005)
     assert page[9:11] == [f"`{row['le_modes']}`", f"`{row['engine_modes']}`"]
+
+
+def test_the_page_shows_every_case_of_the_study():
+    assert sorted(page_rows()) == sorted(case.name for case in tv.study_cases())
