@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from bbmc.slope import fos_cases
+from bbmc.slope import toppling_scene as ts
 from bbmc.slope import toppling_validity as tv
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "reference" / "toppling-validity.md"
@@ -106,3 +107,14 @@ def test_the_pages_numbers_are_what_the_study_measures(name):
 
 def test_the_page_shows_every_case_of_the_study():
     assert sorted(page_rows()) == sorted(case.name for case in tv.study_cases())
+
+
+def test_stiffer_joints_keep_the_trials_span_of_time():
+    """The critical time step goes as sqrt(m / K): at 100 times the stiffness, ten times the steps."""
+    default, stiff = ts.TrialSettings(), tv.stiff_settings(1000.0)
+    assert stiff.stiffness_MPa_per_mm == 1000.0
+    assert (stiff.ramp_steps, stiff.trend_window_steps, stiff.max_steps) == (
+        10 * default.ramp_steps,
+        10 * default.trend_window_steps,
+        10 * default.max_steps,
+    )
