@@ -74,8 +74,11 @@ def test_the_limit_equilibriums_limit_is_its_last_failure():
 
 def test_a_squat_sliding_slope_gives_the_same_limit_on_both():
     """Columns twice as tall as wide on bases at 20 deg: every block slides, at φ = α by limit
-    equilibrium; the engine's bisection finds the same within its tolerance, and the same modes."""
-    row = tv.compare(tv.grid_case(2.0, 20.0))
+    equilibrium; the engine's bisection finds the same within its tolerance, and the same modes. The
+    study reports each case done in the one progress protocol."""
+    reports = []
+    row = tv.study([tv.grid_case(2.0, 20.0)], reports.append).iloc[0]
+    assert [(r.done, r.total, r.unit) for r in reports] == [(1, 1, "cases")]
     assert row["le_limit_deg"] == pytest.approx(20.0, abs=0.01)
     assert row["engine_limit_deg"] == pytest.approx(20.0, abs=tv.TOLERANCE_DEG)
     assert row["le_modes"] == row["engine_modes"] == "S1-6"

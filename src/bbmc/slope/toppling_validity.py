@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -32,6 +32,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.ticker import NullLocator
 
+from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.slope import fos_cases, toppling
 from bbmc.slope import toppling_scene as ts
 
@@ -182,13 +183,14 @@ def compare(case: Case, settings: ts.TrialSettings | None = None) -> dict:
     }
 
 
-def study(cases: Iterable[Case], progress: Callable[[str], None] | None = None) -> pd.DataFrame:
-    """`compare` on every case, one row each."""
+def study(cases: Iterable[Case], progress: ProgressCallback = ignore) -> pd.DataFrame:
+    """`compare` on every case, one row each; `progress` hears of each case done (`bbmc.progress`)."""
+    cases = list(cases)
     rows = []
     for case in cases:
         rows.append(compare(case))
-        if progress is not None:
-            progress(f"{case.name}: {rows[-1]['engine_limit_deg']:.2f} deg ({rows[-1]['seconds']:.0f} s)")
+        text = f"{case.name}: {rows[-1]['engine_limit_deg']:.2f} deg ({rows[-1]['seconds']:.0f} s)"
+        progress(Progress(len(rows), len(cases), "cases", text))
     return pd.DataFrame(rows)
 
 
@@ -310,7 +312,7 @@ def figure(table: pd.DataFrame) -> Figure:
     return fig
 
 
-def write_study(folder: Path, progress: Callable[[str], None] | None = None) -> pd.DataFrame:
+def write_study(folder: Path, progress: ProgressCallback = ignore) -> pd.DataFrame:
     """Run the study; write its table (toppling-validity.csv) and figure (toppling-validity.png) into
     `folder`."""
     folder.mkdir(parents=True, exist_ok=True)
