@@ -32,7 +32,8 @@ from bbmc.dem.solver import advance, prepare
 BENCHED = Path(__file__).parent.parent / "configs" / "scenes" / "benched_rock_mass.yaml"
 STEPS = 4000
 # Measured once against every 10 steps: 2.8e-5 of the block's size on the shipped benched rock mass
-# (its settlement is 0.5 mm), 4e-8 to 9.6e-6 on four generated masses. Not the 1e-6 the
+# (its settlement is 0.5 mm; 4.7e-7, 18 bridges intact, for its realization since the lines are laid
+# from the origin, issue 33), 4e-8 to 9.6e-6 on four generated masses. Not the 1e-6 the
 # issue asks for on every mass: a search finds a few corner-against-face pairs that the search at step
 # 0 left to their neighbouring face contact (the corner rule of `detection.facing_edges` is decided at
 # each search, on the geometry then), and the frictional settling path that follows differs by that
@@ -100,7 +101,7 @@ def _settled_both_ways(scene: dict):
 def test_the_benched_rock_mass_settles_the_same_whether_the_search_runs_once_or_every_10_steps():
     (model_a, once), (model_b, often) = _settled_both_ways(_scene())
     assert once.searches == 1
-    assert _bridges(model_a, once) == _bridges(model_b, often) == (19, 0)
+    assert _bridges(model_a, once) == _bridges(model_b, often) == (18, 0)
     assert _relative_difference(once, often) < DISPLACEMENT_TOLERANCE
 
 

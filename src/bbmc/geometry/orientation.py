@@ -201,7 +201,9 @@ class SectionTraces:
 
 def section_traces(dip_deg: np.ndarray, dip_direction_to_face_deg: np.ndarray) -> SectionTraces:
     """The traces in the section of planes of these dips and dip directions relative to the face."""
-    rows = np.array([joint_set_trace(d, b) for d, b in zip(dip_deg, dip_direction_to_face_deg, strict=True)])
+    rows = np.array(
+        [joint_set_trace(d, b) for d, b in zip(dip_deg, dip_direction_to_face_deg, strict=True)]
+    ).reshape(-1, 3)
     normal = rows[:, :2].reshape(-1, 2) * np.where(rows[:, 1:2] < 0, -1.0, 1.0)
     return SectionTraces(np.asarray(dip_deg, float), np.asarray(dip_direction_to_face_deg, float), normal,
                          rows[:, 2])  # fmt: skip

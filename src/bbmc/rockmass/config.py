@@ -110,7 +110,7 @@ class JointSet(Section):
     trace_length_m: Length | None = None  # along a line in the section
     gap_m: Length | None = None
     persistence: Annotated[float, Field(gt=0, le=1)] | None = None  # gap = trace (1 - k) / k
-    offset_m: float = 0.0  # of a line from the toe, normal to the joints (0: one passes through the toe)
+    offset_m: float = 0.0  # of line 0 from the origin (the toe), normal to the joints (0: through it)
 
     @model_validator(mode="after")
     def _consistent(self) -> JointSet:
@@ -221,6 +221,7 @@ class RockMassConfig(Section):
     profile: Profile
     seed: Annotated[int, Field(ge=0)] = 0  # every realization is reproducible from its seed
     section_azimuth_deg: Annotated[float, Field(ge=0, lt=360)] | None = None  # the face's dip direction
+    origin_m: Point | None = None  # the world point the sets' lines are laid from [default: the toe]
     joint_sets: Annotated[list[JointSet], Field(min_length=1)]
     min_block_fraction: Annotated[float, Field(ge=0, lt=1)] = 0.02  # of the median block: no smaller cut
     fixed_boundaries: list[Literal["left", "right", "bottom"]] = Field(

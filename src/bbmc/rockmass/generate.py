@@ -12,8 +12,9 @@ Held blocks: those with an edge on a fixed side, and the slivers near one: a blo
 `held_sliver_fraction` x the median block (of this realization) with a vertex within the median
 block's size (the square root of its area) of a fixed side. Such a sliver, cut off against a held side
 by a joint, would otherwise be a block that nothing holds in place.
-Each set draws from its own stream (`numpy.random.SeedSequence(seed).spawn`), so a set's lines do not
-change when another set is added or changed.
+Every draw belongs to a world-fixed object (a line of a set, numbered from the origin): the same seed
+gives the same lines, dips and traces whatever profile cuts them, and a set's lines do not change when
+another set is added, removed or changed (`bbmc.rockmass.traces`).
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from bbmc.config import ConfigError, load_config
 from bbmc.geometry.orientation import SectionTraces
 from bbmc.rockmass import cut, profile
 from bbmc.rockmass.config import CRACK, JointSet, RockMassConfig
-from bbmc.rockmass.traces import SetGeometry, lay_traces, set_lines
+from bbmc.rockmass.traces import SetGeometry, TooManyLinesError, lay_traces, set_lines
 
 TOLERANCE = 1e-9  # of the body's size: a vertex this close to a line lies on it
 SHORTEST_EDGE = 1e-6  # of the body's size: no edge is split closer than this to its ends
@@ -74,6 +75,8 @@ class RockMass:
     lines: pd.DataFrame  # set, line, apparent_dip_deg, position_m, length_m (inside the body)
     sets: dict[str, SetSample]
     skipped: pd.DataFrame  # set, line, x0_m, y0_m, x1_m, y1_m: segments of lines not cut (see the module)
+    # `line` is the line's number in its set (0 at the offset, > 0 ahead along the set's mean normal,
+    # < 0 behind): the same line of the same seed has the same number in every profile
     outline: np.ndarray  # the body, counter-clockwise
     seed: int
 
@@ -105,7 +108,7 @@ def _sample(traces: SectionTraces, mean: SectionTraces, spacings: np.ndarray, la
     )  # fmt: skip
 
 
-def _trace_rows(name: str, index: int, line: cut.Line, laid, intervals, tolerance: float) -> list[dict]:
+def _trace_rows(name: str, number: int, line: cut.Line, laid, intervals, tolerance: float) -> list[dict]:
     rows = []
     for start, end in laid.traces:
         for low, high in intervals:
@@ -113,7 +116,7 @@ def _trace_rows(name: str, index: int, line: cut.Line, laid, intervals, toleranc
             if b - a > tolerance:
                 (x0, y0), (x1, y1) = (np.array(line.anchor) + t * np.array(line.direction) for t in (a, b))
                 censored = start < low - tolerance or end > high + tolerance
-                rows.append({"set": name, "line": index, "x0_m": x0, "y0_m": y0, "x1_m": x1, "y1_m": y1,
+                rows.append({"set": name, "line": number, "x0_m": x0, "y0_m": y0, "x1_m": x1, "y1_m": y1,
                              "length_m": b - a, "censored": bool(censored)})  # fmt: skip
     return rows
 
@@ -124,7 +127,7 @@ def _lay(
     group: cut.SetLines,
     lines: list[cut.Line],
     parts: list[cut.Piece],
-    rng: np.random.Generator,
+    seed: int,
     tolerance: float,
     trace_rows: list[dict],
     line_rows: list[dict],
@@ -132,19 +135,19 @@ def _lay(
     """Traces and gaps along each of the set's lines that crosses the body (given to the line, for its
     labels); their rows added to `trace_rows` and `line_rows`; what the set drew."""
     laid = []
-    for number, index in enumerate(group.lines):
-        line = lines[index]
+    for k, index in enumerate(group.lines):
+        line, number = lines[index], int(geometry.numbers[k])
         intervals = cut.body_intervals(parts, line, tolerance)
         if not intervals:
             continue
-        traces = lay_traces(joint_set, intervals[0][0], intervals[-1][1], rng)
+        traces = lay_traces(joint_set, intervals[0][0], intervals[-1][1], seed, number)
         laid.append(traces)
         if not joint_set.persistent:
             line.breaks, line.starts_off = list(traces.traces.ravel()), True
-        trace_rows += _trace_rows(joint_set.name, index, line, traces, intervals, tolerance)
-        line_rows.append({"set": joint_set.name, "line": index,
-                          "apparent_dip_deg": float(geometry.traces.apparent_dip_deg[number]),
-                          "position_m": float(geometry.positions_m[number]),
+        trace_rows += _trace_rows(joint_set.name, number, line, traces, intervals, tolerance)
+        line_rows.append({"set": joint_set.name, "line": number,
+                          "apparent_dip_deg": float(geometry.traces.apparent_dip_deg[k]),
+                          "position_m": float(geometry.positions_m[k]),
                           "length_m": sum(high - low for low, high in intervals)})  # fmt: skip
     return _sample(geometry.traces, geometry.mean, geometry.spacings_m, laid)
 
@@ -187,21 +190,24 @@ def generate(config: RockMassConfig, seed: int | None = None) -> RockMass:
         top = (float(outline[vertex, 0]), float(outline[vertex, 1]))
         lines.append(cut.Line(top, (0.0, -1.0), f"joint.{CRACK}", cut.CUT, [p.tension_crack.depth_m]))
         forced.append((vertex, (0.0, -1.0), 0))
-    streams = [np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(len(config.joint_sets))]
-    geometries = [
-        set_lines(s, config.section_azimuth_deg, outline, surface[0], s.name, rng)
-        for s, rng in zip(config.joint_sets, streams, strict=True)
-    ]
-    groups = []
+    origin = surface[0] if config.origin_m is None else np.array(config.origin_m, dtype=float)
+    geometries = []
+    for number, joint_set in enumerate(config.joint_sets):
+        try:
+            geometries.append(set_lines(joint_set, config.section_azimuth_deg, outline, origin, seed))
+        except TooManyLinesError as error:
+            raise GeometryError(f"joint_sets.{number}.spacing_m", str(error)) from None
+    groups, numbers = [], [None] * len(lines)
     for geometry in geometries:
         groups.append(cut.SetLines(list(range(len(lines), len(lines) + len(geometry.lines))),
                                    tuple(geometry.mean.normal[0])))  # fmt: skip
         lines.extend(geometry.lines)
+        numbers.extend(int(number) for number in geometry.numbers)
     parts = cut.convex_parts(outline, lines, forced, tolerance)
     samples, trace_rows, line_rows = {}, [], []
-    for joint_set, geometry, group, rng in zip(config.joint_sets, geometries, groups, streams, strict=True):
+    for joint_set, geometry, group in zip(config.joint_sets, geometries, groups, strict=True):
         samples[joint_set.name] = _lay(
-            joint_set, geometry, group, lines, parts, rng, tolerance, trace_rows, line_rows
+            joint_set, geometry, group, lines, parts, seed, tolerance, trace_rows, line_rows
         )
     if not line_rows:
         raise GeometryError("joint_sets", "the sets make no block: none of their lines crosses the body "
@@ -216,8 +222,8 @@ def generate(config: RockMassConfig, seed: int | None = None) -> RockMass:
     if len(pieces) == len(parts):
         raise GeometryError("joint_sets", "the sets make no block: no line of theirs cuts the body")
     polygons, labels, splits = cut.labelled(pieces, lines, SHORTEST_EDGE * size)
-    skipped_rows = [{"set": lines[i].on_label.split(".", 1)[1], "line": i, "x0_m": a[0], "y0_m": a[1],
-                     "x1_m": b[0], "y1_m": b[1]} for i, a, b in skipped]  # fmt: skip
+    skipped_rows = [{"set": lines[i].on_label.split(".", 1)[1], "line": numbers[i], "x0_m": a[0],
+                     "y0_m": a[1], "x1_m": b[0], "y1_m": b[1]} for i, a, b in skipped]  # fmt: skip
     trace_columns = ["set", "line", "x0_m", "y0_m", "x1_m", "y1_m", "length_m", "censored"]
     return RockMass(
         polygons=polygons,

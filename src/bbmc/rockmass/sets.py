@@ -29,19 +29,21 @@ def mean_trace(joint_set: c.JointSet, section_azimuth_deg: float | None) -> Sect
 
 
 def sample_traces(
-    joint_set: c.JointSet, section_azimuth_deg: float | None, count: int, rng: np.random.Generator
+    joint_set: c.JointSet, section_azimuth_deg: float | None, streams: list[np.random.Generator]
 ) -> SectionTraces:
-    """The orientations of `count` lines of the set: a 3D set's poles from Fisher's distribution about
-    its mean pole (`scipy.stats.vonmises_fisher`); a set in the section, its dips from the dip's
-    distribution (normal), its dip direction fixed."""
+    """The orientations of the set's lines, one drawn from each line's stream: a 3D set's poles from
+    Fisher's distribution about its mean pole (`scipy.stats.vonmises_fisher`); a set in the section,
+    its dips from the dip's distribution (normal), its dip direction fixed."""
+    count = len(streams)
     if joint_set.orientation is not None:
         o = joint_set.orientation
         if o.fisher_k is None:
             dip, direction = np.full(count, o.dip_deg), np.full(count, o.dip_direction_deg)
         else:
-            mean_pole = upward_pole(o.dip_deg, o.dip_direction_deg)
-            poles = stats.vonmises_fisher(mean_pole, o.fisher_k).rvs(count, random_state=rng)
-            dip, direction = plane_of_pole(poles.reshape(-1, 3))
+            fisher = stats.vonmises_fisher(upward_pole(o.dip_deg, o.dip_direction_deg), o.fisher_k)
+            poles = np.array([fisher.rvs(1, random_state=rng)[0] for rng in streams]).reshape(-1, 3)
+            dip, direction = plane_of_pole(poles)
         return section_traces(dip, direction - section_azimuth_deg)
-    dip = distributions.dip(joint_set.dip_deg).rvs(size=count, random_state=rng)
+    spread = distributions.dip(joint_set.dip_deg)
+    dip = np.array([spread.rvs(size=1, random_state=rng)[0] for rng in streams]).reshape(-1)
     return section_traces(dip, np.full(count, joint_set.dip_direction_to_face_deg or 0.0))
