@@ -115,20 +115,24 @@ def test_generated_rock_masses_keep_one_contact_per_bridge_whatever_the_search(s
 
 @pytest.mark.parametrize("seed, persistence", [(1, 0.6), (2, 0.8), (7, 0.9), (11, 0.6)])
 def test_generated_rock_masses_settle_to_the_same_state_whatever_the_search(seed, persistence):
-    """Measured: 1.5e-7, 4.2e-8, 9.6e-6 and 6.2e-8 of the block size; the same bridges intact (26, 18
-    of 19, 17 of 18, 18). Before the corner rule's tie was fixed, up to 8.2e-5 and 2 bridges broken
-    against 1."""
+    """The same bridges intact and the blocks within DISPLACEMENT_TOLERANCE of their size. A bridge that
+    broke through and opened may be dropped by a later search (it is a gap then, not a contact), so the
+    count of bridge contacts listed may differ by the broken ones, never the intact ones. Measured on the
+    paired generator (issue 33): intact 26 of 28 and 26 of 27 (seed 2), 16 of 17 and 16 of 16 (seed
+    11). Before the corner rule's tie was fixed, up to 8.2e-5 and 2 bridges broken against 1."""
     (model_a, once), (model_b, often) = _settled_both_ways(_scene(seed=seed, persistence=persistence))
     assert once.searches == 1
-    assert _bridges(model_a, once) == _bridges(model_b, often)
+    (listed_a, broken_a), (listed_b, broken_b) = _bridges(model_a, once), _bridges(model_b, often)
+    assert listed_a - broken_a == listed_b - broken_b
+    assert listed_a - listed_b == broken_a - broken_b >= 0
     assert _relative_difference(once, often) < DISPLACEMENT_TOLERANCE
 
 
 def test_a_tiny_search_margin_keeps_every_bridge_and_reaches_equilibrium(tmp_path):
     """At a margin of 1e-5 m the search runs every few steps; bbmc run reaches equilibrium at the same
-    step, with one row per bridge contact in bridges.csv and none broken (measured: equilibrium at step
-    4,000 either way, 150 searches against 1, 19 rows; before: no equilibrium in 20,000 steps, 44 rows,
-    35 broken). Equilibrium is read at record steps: the steps may differ by one record."""
+    step, with one row per bridge contact in bridges.csv and none broken (measured: 85 searches against
+    1 on the paired generator's drawing, 150 on the one before it; before the search kept bridges: no
+    equilibrium in 20,000 steps, 44 rows, 35 broken). Equilibrium is read at record steps: the steps may differ by one record."""
     tables = {}
     for name, margin in (("default", None), ("tiny", 1e-5)):
         path = tmp_path / f"{name}.yaml"
@@ -140,7 +144,7 @@ def test_a_tiny_search_margin_keeps_every_bridge_and_reaches_equilibrium(tmp_pat
             table: pd.read_csv(folder / f"{table}.csv") for table in ("summary", "bridges", "blocks")
         }
     summary = {name: t["summary"].set_index("quantity")["value"] for name, t in tables.items()}
-    assert summary["tiny"]["contact_searches"] > 100 and summary["default"]["contact_searches"] == 1
+    assert summary["tiny"]["contact_searches"] > 50 and summary["default"]["contact_searches"] == 1
     assert summary["default"]["stopped_by_equilibrium"] == summary["tiny"]["stopped_by_equilibrium"] == 1
     every = yaml.safe_load(BENCHED.read_text())["monitoring"]["every_steps"]  # equilibrium is read there
     assert abs(summary["tiny"]["steps"] - summary["default"]["steps"]) <= every
