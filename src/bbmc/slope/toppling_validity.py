@@ -12,9 +12,9 @@ makes y_max / Δx = s exactly. Beside the grid, the guide's two examples: Hoek &
 base line 25°, horizontal top, Δx 1.5 m: 48 blocks, the tallest 15.5 Δx).
 
 Both methods give the friction angle φ at which the slope just stands, bases and sides alike: the
-limit equilibrium's (the highest φ at which its toe still needs support, `le_limit`; beside it the
-root of P_0 `toppling.limiting_friction` finds today) and the engine's, bisected on trials from rest
-(`toppling_scene.limiting_friction`). With one φ on every joint the factor of safety is
+limit equilibrium's (`toppling.limiting_friction`: below it the system fails, `le_limit`) and the
+engine's, bisected on trials from rest (`toppling_scene.limiting_friction`). With one φ on every
+joint the factor of safety is
 FS = tan φ / tan φ_limit for either (Hoek & Bray 1981, ch. 10), so where the engine's slope just
 stands (its FS = 1) the limit equilibrium claims FS = tan φ_engine / tan φ_LE.
 """
@@ -125,24 +125,11 @@ def engine_limit(case: Case, settings: ts.TrialSettings, guess_deg: float) -> fl
                 high = min(high + 10.0, 85.0)
 
 
-def le_root(case: Case) -> float:
-    """The root of P_0 [deg] that `toppling.limiting_friction` finds; nan where P_0 keeps its sign up to
-    45° (its bracket)."""
-    try:
-        return math.degrees(toppling.limiting_friction(case.blocks))
-    except ValueError:
-        return math.nan
-
-
-def le_limit(case: Case, step_deg: float = 0.01) -> float:
-    """The limit equilibrium's limiting friction [deg], bases and sides alike: the highest friction at
-    which the march still finds P_0 > 0 (the toe needs support), scanned every `step_deg` below 90°.
-    This is the limit as the least factor of safety at which the system fails: P_0 may change sign more
-    than once (a toe block that topples needs P_0 = +inf), and a root of P_0 may be one of the lower
-    crossings. Above 45° tan φ_p tan φ_d > 1 locks the sliding equation, and only toppling can fail."""
-    phis = np.arange(step_deg, 90.0, step_deg)
-    failing = toppling.toe_force(case.blocks, np.radians(phis), 1.0) > 0.0
-    return float(phis[failing].max()) if failing.any() else 0.0
+def le_limit(case: Case) -> float:
+    """The limit equilibrium's limiting friction [deg], bases and sides alike: `toppling.limiting_friction`,
+    the friction below which the system fails (the least factor of safety at which it fails, FS = 1;
+    docs/reference/toppling-method.md)."""
+    return math.degrees(toppling.limiting_friction(case.blocks))
 
 
 def le_toe_topples(case: Case, limit_deg: float) -> bool:
@@ -169,7 +156,6 @@ def compare(case: Case, settings: ts.TrialSettings | None = None) -> dict:
         "face_deg": case.face_deg,
         "n_blocks": case.blocks.n_blocks,
         "crest_block": case.blocks.crest_block,
-        "le_root_deg": le_root(case),
         "le_limit_deg": le,
         "le_toe_topples": le_toe_topples(case, le),
         "engine_limit_deg": engine,
