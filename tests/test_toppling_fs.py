@@ -183,3 +183,12 @@ def test_fs_against_toe_support_has_no_jump(quarry):
     assert fs(3.45e6, half) > fs(3.40e6, half)
     at_pivot = [fs(force, 0.0) for force in (0.0, 3e5, 1e6, 2e6)]
     assert at_pivot == pytest.approx([at_pivot[0]] * 4, rel=1e-12)
+
+
+def test_a_support_that_holds_the_system_without_friction_gives_fs_infinity_with_one_angle():
+    """Found by the property test on a clean clone: with one friction angle, FS went through
+    `limiting_friction`, which refuses a system that holds at 0.1 deg; now the general search answers,
+    +inf as the module defines it (the support holds it without friction)."""
+    blocks = tp.regular_system(10.0, math.radians(30.0), 10, 5.0, 5.0, 1.0)
+    support = tp.face_support(blocks, 2.0, 1e12, 0.0)
+    assert np.isinf(tp.factor_of_safety(blocks, math.radians(30.0), support=support, unit_weight=25e3))

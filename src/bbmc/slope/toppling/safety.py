@@ -142,8 +142,11 @@ def factor_of_safety(
     """
     friction = np.asarray(friction, dtype=float)
     if side_friction is None or np.array_equal(np.broadcast_to(side_friction, friction.shape), friction):
-        limit = limiting_friction(blocks, support=support, unit_weight=unit_weight, water=water)
-        return np.tan(friction) / math.tan(limit)
+        try:
+            limit = limiting_friction(blocks, support=support, unit_weight=unit_weight, water=water)
+            return np.tan(friction) / math.tan(limit)
+        except ValueError:  # support holds it without friction (FS +inf) or nothing holds it (0)
+            side_friction = friction
     tan_base, tan_side = np.broadcast_arrays(np.tan(friction), np.tan(np.asarray(side_friction, dtype=float)))
     loads = _loads(blocks, support, water, unit_weight)
     return _least_failing_factor(loads, np.array(tan_base, dtype=float), np.array(tan_side, dtype=float))
