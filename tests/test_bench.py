@@ -98,6 +98,7 @@ def bench_run(tmp_path_factory):
     return stage_folder(tmp_path_factory, "bench", _small)
 
 
+@pytest.mark.slow  # the small bench run behind it takes about a minute
 def test_bench_writes_every_file(bench_run):
     names = {p.name for p in bench_run.iterdir()}
     for stem in ("tradeoff", "scaling"):
@@ -106,6 +107,7 @@ def test_bench_writes_every_file(bench_run):
     assert {"fos_cost.csv", "sweep_cost.csv", "rockmass_cost.csv"} <= names
 
 
+@pytest.mark.slow  # the small bench run behind it takes about a minute
 def test_engine_cost_says_why_when_the_commit_cannot_be_checked_out(bench_run):
     table = pd.read_csv(bench_run / "engine_cost.csv")
     assert table["skipped"].iloc[0].startswith("commit deadbeef not checked out")
@@ -120,6 +122,7 @@ def test_engine_cost_of_the_engine_against_itself_is_one(tmp_path):
     assert table["now_over_then"].between(0.8, 1.25).all()
 
 
+@pytest.mark.slow  # the small bench run behind it takes about a minute
 def test_tradeoff_varies_one_knob_at_a_time_against_the_reference(bench_run):
     table = pd.read_csv(bench_run / "tradeoff.csv", dtype={"value": str})
     for _, rows in table.groupby("scene"):
@@ -150,6 +153,7 @@ def test_tradeoff_varies_one_knob_at_a_time_against_the_reference(bench_run):
     assert every < rarely
 
 
+@pytest.mark.slow  # the small bench run behind it takes about a minute
 def test_recommended_value_is_the_fastest_within_the_target_when_measurably_faster(bench_run):
     table = pd.read_csv(bench_run / "tradeoff.csv", dtype={"value": str})
     advice = pd.read_csv(bench_run / "recommended.csv", dtype=str, keep_default_na=False)
