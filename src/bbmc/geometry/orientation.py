@@ -220,3 +220,77 @@ def plane_of_pole(pole: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     upward = pole * np.where(pole[:, 2:3] < 0, -1.0, 1.0)
     dip = np.degrees(np.arccos(np.clip(upward[:, 2], -1.0, 1.0)))
     return dip, np.degrees(np.arctan2(upward[:, 0], upward[:, 1])) % 360.0
+
+
+def line_vectors(trend: np.ndarray, plunge: np.ndarray) -> np.ndarray:
+    """Unit vectors (..., 3) of lines of `trend` and `plunge` (downward positive) [rad]:
+    l = (cos p sin t, cos p cos t, -sin p)."""
+    trend, plunge = np.asarray(trend, dtype=float), np.asarray(plunge, dtype=float)
+    return np.stack(
+        [np.cos(plunge) * np.sin(trend), np.cos(plunge) * np.cos(trend), -np.sin(plunge)], axis=-1
+    )
+
+
+def trend_and_plunge(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Trend (0 to 2 pi) and plunge (0 to pi/2) [rad] of lines along `vectors` (..., 3), either sense:
+    an upward vector is turned down first (the lower hemisphere). A horizontal line keeps the trend of
+    the sense it was given in."""
+    v = np.asarray(vectors, dtype=float)
+    v = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    v = np.where(v[..., 2:3] > 0, -v, v)
+    plunge = np.arcsin(np.clip(-v[..., 2], 0.0, 1.0))
+    return np.arctan2(v[..., 0], v[..., 1]) % (2.0 * np.pi), plunge
+
+
+def pole_trend_and_plunge(dip: np.ndarray, dip_direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The lower-hemisphere pole of planes of `dip` and `dip_direction` [rad]: trend = dip direction +
+    pi, plunge = pi/2 - dip."""
+    dip, dip_direction = np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
+    return (dip_direction + np.pi) % (2.0 * np.pi), np.pi / 2.0 - dip
+
+
+def intersection_lines(normals_1: np.ndarray, normals_2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The lines of intersection of planes of unit normals `normals_1` and `normals_2` (..., 3): unit
+    vectors pointing down (l = n1 x n2 / |n1 x n2|, turned to z <= 0), and sin of the angle between the
+    planes (|n1 x n2|). Planes closer to parallel than 1e-9 rad give a NaN line and sine 0: they have no
+    line of intersection, and the caller must say so."""
+    cross = np.cross(normals_1, normals_2)
+    sine = np.linalg.norm(cross, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        lines = np.where(sine[..., None] > 1e-9, cross / sine[..., None], np.nan)
+    return np.where(lines[..., 2:3] > 0, -lines, lines), sine
+
+
+def apparent_dip(dip: np.ndarray, dip_direction: np.ndarray, trend: np.ndarray) -> np.ndarray:
+    """The apparent dip [rad] of a plane (`dip`, `dip_direction`) along a vertical section of azimuth
+    `trend` [rad]: tan(apparent dip) = tan(dip) cos(trend - dip direction) (Priest 1993, eq. 2.6);
+    negative where the plane rises along `trend`."""
+    dip = np.asarray(dip, dtype=float)
+    return np.arctan(
+        np.tan(dip) * np.cos(np.asarray(trend, dtype=float) - np.asarray(dip_direction, dtype=float))
+    )
+
+
+def angle_between_axes(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The angle [rad] between axes `a` and `b` (unit vectors (..., 3), either sense): 0 to pi/2."""
+    return np.arccos(np.clip(np.abs(np.sum(a * b, axis=-1)), 0.0, 1.0))
+
+
+def fisher_sample(mean: np.ndarray, kappa: float, count: int, rng: np.random.Generator) -> np.ndarray:
+    """`count` unit vectors (count, 3) from Fisher's distribution of mean direction `mean` and
+    concentration `kappa` (Fisher 1953), drawn exactly: the angle theta from the mean by inverting its
+    distribution, cos theta = 1 + ln(u + (1 - u) exp(-2 kappa)) / kappa (u uniform), and an azimuth
+    about the mean uniform on 0 to 2 pi. `kappa` = inf gives the mean itself."""
+    mean = np.asarray(mean, dtype=float) / np.linalg.norm(mean)
+    u, azimuth = rng.random(count), rng.random(count) * 2.0 * np.pi
+    if np.isinf(kappa):
+        cos_theta = np.ones(count)
+    else:
+        cos_theta = np.clip(1.0 + np.log(u + (1.0 - u) * np.exp(-2.0 * kappa)) / kappa, -1.0, 1.0)
+    sin_theta = np.sqrt(1.0 - cos_theta**2)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(mean[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(mean, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(mean, e1)
+    return (cos_theta[:, None] * mean + (sin_theta * np.cos(azimuth))[:, None] * e1
+            + (sin_theta * np.sin(azimuth))[:, None] * e2)  # fmt: skip
