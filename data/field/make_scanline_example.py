@@ -114,16 +114,28 @@ def draw(rng: np.random.Generator, law: dict, size: int, length_biased: bool = F
     return np.exp(mu + np.sqrt(sigma2) * ndtri(u))
 
 
-def survey_set(rng: np.random.Generator, name: str, truth: dict) -> list[tuple]:
-    """The rows of one set along the scanline: (set, position, dip, dip direction, length, censored)."""
-    scanline = line(np.radians(TREND_DEG), np.radians(PLUNGE_DEG))
+def survey_set(
+    rng: np.random.Generator,
+    name: str,
+    truth: dict,
+    scanline: np.ndarray | None = None,
+    face_normal: np.ndarray = FACE_NORMAL,
+    length: float = LENGTH_M,
+    heights: tuple[float, float] = (ABOVE_M, BELOW_M),
+) -> list[tuple]:
+    """The rows of one set along the scanline (default: this survey's; or a unit vector `scanline` over
+    `length` on a face of normal `face_normal` reaching `heights` (above, below) [m] vertically above
+    and below the line): (set, position, dip, dip direction, length, censored)."""
+    if scanline is None:
+        scanline = line(np.radians(TREND_DEG), np.radians(PLUNGE_DEG))
+    above_m, below_m = heights
     mean = pole(np.radians(truth["dip_deg"]), np.radians(truth["dip_direction_deg"]))
     factor = mean_abs_cos(mean, truth["fisher_k"], scanline)
     positions: list[float] = []
     spacings = draw(rng, truth["spacing_m"], 10_000) / factor
     at = spacings[0] * rng.random()
     for spacing in spacings[1:]:
-        if at > LENGTH_M:
+        if at > length:
             break
         positions.append(at)
         at += spacing
@@ -137,9 +149,9 @@ def survey_set(rng: np.random.Generator, name: str, truth: dict) -> list[tuple]:
     lengths = draw(rng, truth["trace_length_m"], count, length_biased=True)
     below = lengths * rng.random(count)
     above = lengths - below
-    traces = np.cross(poles, FACE_NORMAL)
+    traces = np.cross(poles, face_normal)
     sin_beta = np.abs(traces[:, 2]) / np.linalg.norm(traces, axis=1)
-    reach_above, reach_below = ABOVE_M / sin_beta, BELOW_M / sin_beta
+    reach_above, reach_below = above_m / sin_beta, below_m / sin_beta
     seen = np.minimum(above, reach_above) + np.minimum(below, reach_below)
     censored = (above > reach_above).astype(int) + (below > reach_below).astype(int)
     dips = np.degrees(np.arccos(np.clip(poles[:, 2], -1.0, 1.0)))
