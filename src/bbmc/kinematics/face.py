@@ -71,9 +71,11 @@ def turned_towards(vectors: np.ndarray, azimuth: float | np.ndarray) -> tuple[np
     sense in which the criterion can be met; the others unchanged. On a lower-hemisphere net both
     senses of a horizontal axis are one point of the primitive circle."""
     x, y, z = components(vectors)
-    flip = (np.abs(z) < ROUND_OFF) & (x * np.sin(azimuth) + y * np.cos(azimuth) < 0.0)
-    sign = np.where(flip, -1.0, 1.0)
-    return x * sign, y * sign, z * sign
+    flat = np.abs(z) < ROUND_OFF
+    if not flat.any():
+        return x, y, z
+    sign = np.where(flat & (x * np.sin(azimuth) + y * np.cos(azimuth) < 0.0), -1.0, 1.0)
+    return x * sign, y * sign, z  # z of a flat vector is below round-off: its sign is immaterial
 
 
 def daylights(x: np.ndarray, y: np.ndarray, z: np.ndarray, dip, dip_direction) -> np.ndarray:
@@ -83,7 +85,7 @@ def daylights(x: np.ndarray, y: np.ndarray, z: np.ndarray, dip, dip_direction) -
     apparent dip along its trend (Priest 1993, eq. 2.6; Hudson & Harrison 1997, ch. 18): inside the
     great circle of the plane on a lower-hemisphere net (strict)."""
     nx, ny, nz = upward_normal(dip, dip_direction)
-    return x * nx + y * ny + z * nz > 0.0
+    return x * nx + y * ny + z * nz > ROUND_OFF
 
 
 def within_lateral_limits(x, y, z, azimuth, limit: float, curved: bool) -> np.ndarray:

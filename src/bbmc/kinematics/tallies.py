@@ -69,6 +69,15 @@ def _names(count: int, set_names) -> list[str]:
     return list(set_names) if set_names is not None else [f"set {s + 1}" for s in range(count)]
 
 
+def percentage(critical, weight, weight_sq, sampled: bool) -> tuple[np.ndarray, np.ndarray]:
+    """100 p, p = critical / weight, and its binomial standard error 100 sqrt(p (1 - p) / m_eff),
+    m_eff = weight^2 / weight_sq (Kish), when the items were `sampled`; 0 when all were taken."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        p = np.where(weight > 0, critical / weight, np.nan)
+        error = 100.0 * np.sqrt(p * (1.0 - p) * weight_sq / weight**2) if sampled else np.zeros_like(p)
+    return 100.0 * p, error
+
+
 def _accumulate(sums: np.ndarray, code: np.ndarray, values: np.ndarray, size: int) -> None:
     sums += np.bincount(code, weights=values, minlength=size)
 
@@ -101,17 +110,25 @@ class _Groups:
     def _row(self, mode: str, name: str, codes: list[int], sampled: bool, denominator: str) -> ModeTally:
         w, w2 = self.weight[codes].sum(), self.weight_sq[codes].sum()
         c = self.critical[mode][codes].sum()
-        p = c / w if w > 0 else np.nan
-        error = 100.0 * np.sqrt(p * (1.0 - p) / (w * w / w2)) if sampled and w > 0 else 0.0
+        percent, error = percentage(c, w, w2, sampled)
         return ModeTally(mode, name, float(c), float(w), int(self.count_critical[mode][codes].sum()),
-                         int(self.count[codes].sum()), 100.0 * p, float(error), denominator)  # fmt: skip
+                         int(self.count[codes].sum()), float(percent), float(error), denominator)  # fmt: skip
 
 
-def _labels(sets, count: int) -> tuple[np.ndarray, int]:
-    """Set labels (-1 random) shifted so random readings are group k (after sets 0 .. k-1)."""
+def reading_groups(sets, count: int, set_names=None) -> tuple[np.ndarray, dict[int, str]]:
+    """Group codes of `count` readings from their set labels (-1 random; None: all random): set s
+    is group s, the random readings group k (k sets); and the groups' names ("set 1", ...)."""
     labels = np.full(count, -1) if sets is None else np.asarray(sets, dtype=int)
     k = int(labels.max()) + 1 if labels.size else 0
-    return np.where(labels < 0, k, labels), k
+    return np.where(labels < 0, k, labels), dict(enumerate(_names(k, set_names))) | {k: "random"}
+
+
+def pair_groups(code_i: np.ndarray, code_j: np.ndarray, names: dict[int, str]) -> tuple[np.ndarray, dict]:
+    """Group codes of pairs of readings of group codes i and j (unordered), and their names."""
+    size = len(names)
+    a, b = np.minimum(code_i, code_j), np.maximum(code_i, code_j)
+    pair_names = {x * size + y: f"{names[x]} x {names[y]}" for x in range(size) for y in range(x, size)}
+    return a * size + b, pair_names
 
 
 def pole_tallies(poles, face: Face, friction, limits: KinematicLimits, sets=None, weights=None,
@@ -119,10 +136,9 @@ def pole_tallies(poles, face: Face, friction, limits: KinematicLimits, sets=None
     """Per pole mode: the critical readings of the survey, of each set and of the random ones."""
     poles = np.asarray(poles, dtype=float)
     weights = np.ones(len(poles)) if weights is None else np.asarray(weights, dtype=float)
-    code, k = _labels(sets, len(poles))
-    groups = _Groups(k + 1, POLE_MODES)
+    code, names = reading_groups(sets, len(poles), set_names)
+    groups = _Groups(len(names), POLE_MODES)
     groups.add(code, weights, pole_modes(poles, face, friction, limits))
-    names = dict(enumerate(_names(k, set_names))) | {k: "random"}
     return groups.rows(names, False, "readings of the group, weighted")
 
 
@@ -133,17 +149,16 @@ def pair_tallies(poles, face: Face, friction, limits: KinematicLimits, plan: Pai
     poles = np.asarray(poles, dtype=float)
     weights = np.ones(len(poles)) if weights is None else np.asarray(weights, dtype=float)
     friction = np.broadcast_to(np.asarray(friction, dtype=float), (len(poles),))
-    label, k = _labels(sets, len(poles))
-    groups, parallel = _Groups((k + 1) ** 2, LINE_MODES), 0
+    code, names = reading_groups(sets, len(poles), set_names)
+    groups, parallel = _Groups(len(names) ** 2, LINE_MODES), 0
     for i, j in pair_chunks(plan):
         lines, defined = pair_lines(poles, i, j)
         parallel += int(np.count_nonzero(~defined))
         i, j, lines = i[defined], j[defined], lines[defined]
-        a, b = np.minimum(label[i], label[j]), np.maximum(label[i], label[j])
+        pair_code, _ = pair_groups(code[i], code[j], names)
         pair_friction = set_pair_friction(friction[i], friction[j])
-        groups.add(a * (k + 1) + b, weights[i] * weights[j], line_modes(lines, face, pair_friction, limits))
-    names = _names(k, set_names) + ["random"]
-    pair_names = {a * (k + 1) + b: f"{names[a]} x {names[b]}" for a in range(k + 1) for b in range(a, k + 1)}
+        groups.add(pair_code, weights[i] * weights[j], line_modes(lines, face, pair_friction, limits))
+    _, pair_names = pair_groups(code[:0], code[:0], names)
     denominator = f"pairs of readings with a line of intersection ({plan.rule})"
     return groups.rows(pair_names, not plan.exact, denominator), parallel
 
