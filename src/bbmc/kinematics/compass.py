@@ -1,0 +1,130 @@
+"""The kinematic tallies of many faces at once: every face dip direction around the compass at a
+step (a pit wall's sectors), and every face dip for a chosen wall (the face-angle sweep).
+
+Each face is classified by the very criteria of a single face (criteria.py, through the modes of
+modes.py): `Face.many` gives the face fields the shape (F, 1), every test broadcasts to (F, N), and
+the weighted critical counts of each group are the product of the (F, N) masks with the (N, G)
+matrix of the items' weights per group. Faces are taken in blocks so that F x N stays near
+`BLOCK_ELEMENTS`; the pairs of readings come chunk by chunk from the same `PairPlan` as the
+single face's tallies, so the sweep at a face and the tally of that face are one computation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from bbmc.kinematics.criteria import set_pair_friction
+from bbmc.kinematics.face import Face, KinematicLimits
+from bbmc.kinematics.intersections import PairPlan, pair_chunks, pair_lines, pair_plan
+from bbmc.kinematics.modes import LINE_MODES, POLE_MODES, line_modes, pole_modes
+from bbmc.kinematics.tallies import pair_groups, percentage, reading_groups
+
+BLOCK_ELEMENTS = 1 << 22
+
+
+@dataclass(frozen=True)
+class FaceSweep:
+    """Critical weight per face and group of every mode: `critical[mode]` (F, G) with the groups of
+    its kind (`groups[kind]`, "all" last), the groups' weights (sum w, sum w^2), and the pair rule.
+    Faces: `dip`, `dip_direction` (F,) [rad]."""
+
+    dip: np.ndarray
+    dip_direction: np.ndarray
+    groups: dict[str, tuple[str, ...]]
+    critical: dict[str, np.ndarray]
+    weight: dict[str, np.ndarray]
+    weight_sq: dict[str, np.ndarray]
+    plan: PairPlan
+
+    def percent(self, mode: str, group: str = "all") -> tuple[np.ndarray, np.ndarray]:
+        """The percentage critical (F,) of `mode` in `group` at each face, and its standard error."""
+        kind = "poles" if mode in POLE_MODES else "pairs"
+        g = self.groups[kind].index(group)
+        sampled = kind == "pairs" and not self.plan.exact
+        return percentage(self.critical[mode][:, g], self.weight[kind][g], self.weight_sq[kind][g], sampled)
+
+    def rows(self) -> list[dict[str, object]]:
+        """The sweep as a long table: one row per face, mode and group, angles in degrees."""
+        out = []
+        for mode in POLE_MODES + LINE_MODES:
+            kind = "poles" if mode in POLE_MODES else "pairs"
+            for g, group in enumerate(self.groups[kind]):
+                if not group or self.weight[kind][g] <= 0:
+                    continue
+                percent, error = self.percent(mode, group)
+                for f in range(self.dip.size):
+                    out.append({"face_dip_deg": float(np.degrees(self.dip[f])),
+                                "face_dip_direction_deg": float(np.degrees(self.dip_direction[f])),
+                                "mode": mode, "group": group, "percent": float(percent[f]),
+                                "standard_error_percent": float(error[f])})  # fmt: skip
+        return out
+
+
+def _group_matrix(code: np.ndarray, weight: np.ndarray, size: int) -> np.ndarray:
+    """(N, size + 1): each item's weight in its group's column and in the last column ("all")."""
+    matrix = np.zeros((code.size, size + 1))
+    matrix[np.arange(code.size), code] = weight
+    matrix[:, size] = weight
+    return matrix
+
+
+def _add_blocks(sums: dict, faces: Face, items: np.ndarray, matrix: np.ndarray, modes_of) -> None:
+    """Add to `sums[mode]` (F, G) the weighted critical counts of `items`, faces block by block."""
+    dips, directions = faces.dip.ravel(), faces.dip_direction.ravel()
+    block = max(1, BLOCK_ELEMENTS // max(1, len(items)))
+    for start in range(0, dips.size, block):
+        stop = min(start + block, dips.size)
+        masks = modes_of(items, Face(dips[start:stop, None], directions[start:stop, None]))
+        for mode, mask in masks.items():
+            sums[mode][start:stop] += np.broadcast_to(mask, (stop - start, len(items))).astype(float) @ matrix
+
+
+def sweep_faces(poles, faces: Face, friction, limits: KinematicLimits | None = None, sets=None, weights=None,
+                set_names=None, plan: PairPlan | None = None) -> FaceSweep:  # fmt: skip
+    """Every mode's critical weight for each of `faces` (built with `Face.many`), readings and pairs
+    as `tallies.kinematic_tally`."""
+    limits = KinematicLimits() if limits is None else limits
+    poles = np.asarray(poles, dtype=float)
+    plan = pair_plan(len(poles)) if plan is None else plan
+    weights = np.ones(len(poles)) if weights is None else np.asarray(weights, dtype=float)
+    friction = np.broadcast_to(np.asarray(friction, dtype=float), (len(poles),))
+    code, names = reading_groups(sets, len(poles), set_names)
+    _, pair_names = pair_groups(code[:0], code[:0], names)
+    count = faces.dip.size
+    critical = {m: np.zeros((count, len(names) + 1)) for m in POLE_MODES}
+    critical |= {m: np.zeros((count, len(names) ** 2 + 1)) for m in LINE_MODES}
+    pole_matrix = _group_matrix(code, weights, len(names))
+    _add_blocks(critical, faces, poles, pole_matrix, lambda p, f: pole_modes(p, f, friction, limits))
+    pair_weight, pair_weight_sq = np.zeros(len(names) ** 2 + 1), np.zeros(len(names) ** 2 + 1)
+    for i, j in pair_chunks(plan):
+        lines, defined = pair_lines(poles, i, j)
+        i, j, lines = i[defined], j[defined], lines[defined]
+        pair_code, _ = pair_groups(code[i], code[j], names)
+        matrix = _group_matrix(pair_code, weights[i] * weights[j], len(names) ** 2)
+        pair_weight += matrix.sum(axis=0)
+        pair_weight_sq += (matrix**2).sum(axis=0)
+        pair_friction = set_pair_friction(friction[i], friction[j])
+        _add_blocks(critical, faces, lines, matrix,
+                    lambda q, f, phi=pair_friction: line_modes(q, f, phi, limits))  # fmt: skip
+    pole_groups = (*names.values(), "all")
+    pair_group_names = (*(pair_names.get(g, "") for g in range(len(names) ** 2)), "all")
+    return FaceSweep(faces.dip.ravel(), faces.dip_direction.ravel(),
+                     {"poles": pole_groups, "pairs": pair_group_names}, critical,
+                     {"poles": pole_matrix.sum(axis=0), "pairs": pair_weight},
+                     {"poles": (pole_matrix**2).sum(axis=0), "pairs": pair_weight_sq}, plan)  # fmt: skip
+
+
+def compass_sweep(poles, face_dip: float, friction, step: float = np.radians(1.0), **options) -> FaceSweep:
+    """The tallies for faces of dip `face_dip` [rad] dipping towards every direction 0, step, ...
+    below 2 pi [rad] (default 1 deg: 360 faces). `options` as `sweep_faces`."""
+    directions = np.arange(0.0, 2.0 * np.pi - 1e-12, step)
+    return sweep_faces(poles, Face.many(np.full(directions.size, face_dip), directions), friction, **options)
+
+
+def face_angle_sweep(poles, face_dip_direction: float, dips: np.ndarray, friction, **options) -> FaceSweep:
+    """The tallies for a wall of dip direction `face_dip_direction` [rad] at each face dip of `dips`
+    [rad]. `options` as `sweep_faces`."""
+    dips = np.asarray(dips, dtype=float)
+    return sweep_faces(poles, Face.many(dips, np.full(dips.size, face_dip_direction)), friction, **options)
