@@ -9,6 +9,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import InputFile, Section
+from bbmc.kinematics.config import FaceSection, Friction, LimitsSection, SetOrientationSection
 from bbmc.slope import toppling
 
 Positive = Annotated[float, Field(gt=0)]
@@ -136,6 +137,21 @@ class SceneBase(Section):
         return self
 
 
+class Kinematics(Section):
+    """Probabilistic kinematics (`bbmc.sweep.kinematic_model`): per sample, the probability that each
+    mode is feasible for the face, from `orientation_draws` Fisher draws of each set (seeded by `seed`
+    and the sample's number). Any number in it can be varied: friction_deg, face.dip_deg,
+    sets.J1.fisher_k, ..."""
+
+    kind: Literal["kinematics"]
+    face: FaceSection
+    friction_deg: Friction
+    sets: dict[str, SetOrientationSection] = Field(min_length=1)
+    lateral_limits: LimitsSection = Field(default_factory=LimitsSection)
+    orientation_draws: Annotated[int, Field(ge=1, le=10_000_000)] = 10_000
+    seed: Annotated[int, Field(ge=0)] = 0
+
+
 class Variable(Section):
     """A varying input by its dotted path in the base (e.g. strength.friction_deg, or
     joint_laws.joint.friction_deg in a scene; list entries by their index) and its distribution:
@@ -217,7 +233,7 @@ class Sampling(Section):
 
 class Config(Section):
     name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_\-]+$")]
-    base: Planar | Toppling | SceneBase = Field(discriminator="kind")
+    base: Planar | Toppling | SceneBase | Kinematics = Field(discriminator="kind")
     variables: list[Variable] = Field(default_factory=list)
     grid: list[GridAxis] = Field(default_factory=list)
     correlation: Correlation | None = None

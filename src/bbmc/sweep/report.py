@@ -16,6 +16,7 @@ import pandas as pd
 from bbmc.io import StageResult
 from bbmc.sweep import design, figures, shares, statistics
 from bbmc.sweep.config import Config
+from bbmc.sweep.kinematic_model import kinematics_summary
 from bbmc.sweep.models import ERROR, FS
 from bbmc.sweep.outcomes import COUNTS, Outcomes, first_errors
 from bbmc.sweep.ranges import Range
@@ -84,8 +85,13 @@ def invalid_rows(samples: pd.DataFrame, outcomes: Outcomes, inputs: Inputs) -> p
 
 
 def run_summary(config: Config, samples: pd.DataFrame, outcomes: Outcomes) -> pd.DataFrame:
-    """summary.csv of a scene_run study: the counts, the monitor's mean and spread, displacement stops."""
+    """summary.csv of a scene_run study: the counts, the monitor's mean and spread, displacement stops;
+    of a kinematics study: the counts, each mode's probability and its standard error."""
     valid = ~outcomes.excluded
+    if config.base.kind == "kinematics":
+        return summary_rows(
+            {**outcomes.counts(), **kinematics_summary(config.base.model_dump(), samples, valid)}
+        )
     values = samples.loc[valid, config.base.monitor].astype(float)
     stopped = samples.loc[valid, "stopped_by_displacement"].astype(float)
     return summary_rows(

@@ -51,7 +51,8 @@ from bbmc.scene.schema import Scene
 from bbmc.slope import safety
 from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design, figures, parameters
-from bbmc.sweep.config import Config, Planar, Toppling
+from bbmc.sweep.config import Config, Kinematics, Planar, Toppling
+from bbmc.sweep.kinematic_model import KinematicsModel
 from bbmc.sweep.models import ERROR, FS, OUTCOME, PlanarModel, SceneModel, TopplingModel, get_path
 from bbmc.sweep.outcomes import IMPOSSIBLE, Outcomes, one_line
 from bbmc.sweep.ranges import Range, impossible_inputs, key_range
@@ -92,6 +93,8 @@ def model_of(config: Config, tree: dict | None) -> Model:
         return PlanarModel(base.model_dump())
     if isinstance(base, Toppling):
         return TopplingModel(base.model_dump())
+    if isinstance(base, Kinematics):
+        return KinematicsModel(base.model_dump())
     return SceneModel(tree, str(base.scene or base.slope_config), base.kind, base.monitor)
 
 
@@ -297,7 +300,9 @@ def run(
     """Check, design, run (resuming from `progress_root`), summarise and draw the study. `scheduler`: a
     dask scheduler's address or a `distributed.Client`; else `workers` local processes (default every
     core). `progress` is told each batch done and each line the command prints (unit "samples")."""
-    tree = None if isinstance(config.base, Planar | Toppling) else _scene_tree(config)  # read once
+    tree = (
+        None if isinstance(config.base, Planar | Toppling | Kinematics) else _scene_tree(config)
+    )  # read once
     if tree is not None:
         check_scene(config, config_path, tree)
     inputs = inputs_of(config, config_path, check_paths(config, config_path, tree))
@@ -315,7 +320,7 @@ def run(
         warm_engine(scheduler, where.say)
     grid = config.sampling.method == "grid"
     at_mean = None
-    if config.base.kind != "scene_run" and config.variables and not grid:
+    if config.base.kind not in ("scene_run", "kinematics") and config.variables and not grid:
         at_mean = fs_at_mean_inputs(model, inputs, store, where)
     checks = impossible_inputs(table, inputs.ranges)
     samples = _run_samples(model, table, checks, store, config, where)
@@ -325,7 +330,7 @@ def run(
         raise NoValidSampleError(no_valid_sample_text(messages, outcomes, store))
     over = "each grid point's FS is" if grid else "P_f is"
     report_exclusions(table, inputs, messages, outcomes, where.say, over)
-    if config.base.kind == "scene_run":
+    if config.base.kind in ("scene_run", "kinematics"):
         summary = [
             run_summary(config, samples, outcomes),
             invalid_rows(samples, outcomes, inputs),
