@@ -190,19 +190,25 @@ def _conventions(path: Path, header: list[str], convention: str | None) -> list[
 def _row_conventions(path: Path, table: pd.DataFrame, found: list[str], word: str) -> np.ndarray:
     """Each row's convention: the one whose marking cells it fills, exactly one, its cells all given."""
     marked = np.array([table[list(MARKS[c])].notna().any(axis=1).to_numpy() for c in found])
-    for row, line in enumerate(table.index):
+    counts = marked.sum(axis=0)
+    if (counts != 1).any():
+        row = np.argmax(counts != 1)
         names = [found[k] for k in np.flatnonzero(marked[:, row])]
-        if len(names) != 1:
-            given = [c for name in names for c in MARKS[name]] or [c for name in found for c in MARKS[name]]
-            problem = "mixed conventions in one row" if names else "no orientation given"
-            hint = " (choose one with `convention`)" if names else ""
-            raise ConfigError(
-                f"{path}: {word} {line}: column '{given[0]}': {problem}: {', '.join(given)}{hint}"
-            )
-        for column in CONVENTIONS[names[0]]:
-            if np.isnan(table.at[line, column]):
+        marks = [c for name in names or found for c in MARKS[name]]
+        problem = (
+            f"mixed conventions in one row: {', '.join(marks)} all given (choose one with `convention`)"
+            if names
+            else f"no orientation in this row: fill {' or '.join(marks)}"
+        )
+        raise ConfigError(f"{path}: {word} {table.index[row]}: column '{marks[0]}': {problem}")
+    convention = np.array(found, dtype=object)[np.argmax(marked, axis=0)]
+    for name in found:
+        for column in CONVENTIONS[name]:
+            blank = (convention == name) & table[column].isna().to_numpy()
+            if blank.any():
+                line = table.index[np.argmax(blank)]
                 raise ConfigError(f"{path}: {word} {line}: column '{column}': blank, a value is needed")
-    return np.array(found, dtype=object)[np.argmax(marked, axis=0)]
+    return convention
 
 
 def _pairs(path: Path, table: pd.DataFrame, columns: tuple[str, str], word: str) -> np.ndarray:
@@ -292,7 +298,7 @@ def _sampling(
     core = ~np.isnan(holes[0])
     for rows, problem in (
         (line & face, "two sampling geometries in one row, a line and a face"),
-        ((line | face) & core, "a core reading is sampled on its hole"),
+        ((line | face) & core, "a core reading is sampled on its hole: leave the line and face blank"),
     ):
         if rows.any():
             row = np.argmax(rows)
