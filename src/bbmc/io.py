@@ -14,6 +14,7 @@ import subprocess
 import tempfile
 import threading
 import warnings
+import zipfile
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
@@ -103,16 +104,21 @@ def read_csv(path: Path, **options: object) -> pd.DataFrame:
         raise ConfigError(f"{path}: cannot read CSV: {str(exc).splitlines()[0]}") from None
 
 
-def read_table(path: Path, columns: Mapping[str, Column], rows: int | None = None) -> pd.DataFrame:
-    """A CSV (UTF-8, a byte-order mark allowed) as a table of the named columns, each cell checked.
+@dataclass(frozen=True)
+class Records:
+    """A table's cells as text, as read: the header's line and names, and each data row with its line
+    (`word`: what a line is called in messages, 'line' in a CSV file, 'row' in a spreadsheet)."""
 
-    The header names each column once; every named column is there; every data row has no more cells
-    than the header (fewer: the missing ones are blank); a numeric cell is a finite number within its
-    column's range, a blank cell only where the column allows it; there is at least one data row, and
-    exactly `rows` if given. Any fault raises `ConfigError` naming the file, the line (counted in the
-    file, the header's included) and the column. Returns the named columns only, numbers as floats,
-    blank cells as NaN (text columns: ''), indexed by each row's line in the file (`line`).
-    """
+    header_line: int
+    header: list[str]
+    body: list[tuple[int, list[str]]]
+    word: str = "line"
+
+
+def csv_records(path: Path, comments: bool = False) -> Records:
+    """The cells of a CSV file (UTF-8, a byte-order mark allowed), blank lines skipped, and lines before
+    the header whose first cell starts with '#' where `comments`. `ConfigError` naming the file (and
+    line) if it cannot be read as CSV text, is empty or names a column twice."""
     try:
         text = path.read_bytes().decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -128,33 +134,73 @@ def read_table(path: Path, columns: Mapping[str, Column], rows: int | None = Non
         records = [(lines.line_num, row) for row in lines if any(cell.strip() for cell in row)]
     except csv.Error as exc:
         raise ConfigError(f"{path}: line {lines.line_num}: not a CSV table: {exc}") from None
+    while comments and records and records[0][1][0].lstrip().startswith("#"):
+        records.pop(0)
+    return _records(path, records, "line")
+
+
+def sheet_records(path: Path) -> Records:
+    """The cells of the first sheet of an Excel workbook (.xlsx, read by pandas with openpyxl) as text,
+    each row numbered as the spreadsheet numbers it; blank rows and columns skipped."""
+    try:
+        sheet = pd.read_excel(path, sheet_name=0, header=None, dtype=str, keep_default_na=False)
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
+        raise ConfigError(f"{path}: cannot read as an Excel workbook: {str(exc).splitlines()[0]}") from None
+    filled = sheet.apply(lambda column: column.str.strip() != "")
+    sheet = sheet.loc[filled.any(axis=1), filled.any(axis=0)]
+    records = [(int(index) + 1, list(row)) for index, row in zip(sheet.index, sheet.to_numpy(), strict=True)]
+    return _records(path, records, "row")
+
+
+def _records(path: Path, records: list[tuple[int, list[str]]], word: str) -> Records:
     if not records:
-        raise ConfigError(f"{path}: the file is empty (a header line and data rows are expected)")
+        raise ConfigError(f"{path}: the file is empty (a header {word} and data rows are expected)")
     header_line, header = records[0][0], [cell.strip() for cell in records[0][1]]
     for k, name in enumerate(header):
         if name in header[:k]:
-            raise ConfigError(f"{path}: line {header_line}: column '{name}' is named twice")
-    body = records[1:]
+            raise ConfigError(f"{path}: {word} {header_line}: column '{name}' is named twice")
+    return Records(header_line, header, records[1:], word)
+
+
+def read_table(path: Path, columns: Mapping[str, Column], rows: int | None = None) -> pd.DataFrame:
+    """A CSV (UTF-8, a byte-order mark allowed) as a table of the named columns, each cell checked
+    (`checked_table`)."""
+    return checked_table(path, csv_records(path), columns, rows)
+
+
+def checked_table(
+    path: Path, records: Records, columns: Mapping[str, Column], rows: int | None = None
+) -> pd.DataFrame:
+    """The table of the named columns of `records` (read from `path`), each cell checked.
+
+    The header names each column once; every named column is there; every data row has no more cells
+    than the header (fewer: the missing ones are blank); a numeric cell is a finite number within its
+    column's range, a blank cell only where the column allows it; there is at least one data row, and
+    exactly `rows` if given. Any fault raises `ConfigError` naming the file, the line (counted in the
+    file, the header's included) and the column. Returns the named columns only, numbers as floats,
+    blank cells as NaN (text columns: ''), indexed by each row's line in the file (`line`).
+    """
+    header, body, word = records.header, records.body, records.word
     if not body:
         raise ConfigError(f"{path}: no data rows under the header")
     if rows is not None and len(body) != rows:
         raise ConfigError(f"{path}: {len(body)} data rows, where the table has {rows}")
     for line, row in body:
         if len(row) > len(header):
-            raise ConfigError(f"{path}: line {line}: {len(row)} cells, the header names {len(header)}")
+            raise ConfigError(f"{path}: {word} {line}: {len(row)} cells, the header names {len(header)}")
     table = {}
     for name, column in columns.items():
         if name not in header:
             raise ConfigError(f"{path}: missing column '{name}'")
         k = header.index(name)
         cells = [(line, row[k].strip() if k < len(row) else "") for line, row in body]
-        table[name] = [_cell(path, line, name, raw, column) for line, raw in cells]
+        table[name] = [_cell(path, f"{word} {line}", name, raw, column) for line, raw in cells]
     return pd.DataFrame(table, index=pd.Index([line for line, _ in body], name="line"))
 
 
-def _cell(path: Path, line: int, name: str, raw: str, column: Column) -> float | str:
-    """One cell's value, checked against its column."""
-    where = f"{path}: line {line}: column '{name}'"
+def _cell(path: Path, line: str, name: str, raw: str, column: Column) -> float | str:
+    """One cell's value, checked against its column (`line`: where it is, e.g. 'line 4')."""
+    where = f"{path}: {line}: column '{name}'"
     if not raw:
         if not column.blank:
             raise ConfigError(f"{where}: blank, a value is needed")

@@ -53,12 +53,27 @@ def dip_and_direction(pole: np.ndarray) -> tuple[float, float]:
     return dip, float(np.arctan2(pole[0], pole[1]) % (2.0 * np.pi))
 
 
+# Rocscience Dips' default cap on the weights: its "minimum bias angle" of 15 deg, w <= 1 / sin 15 deg.
+DIPS_MAX_WEIGHT = 1.0 / np.sin(np.radians(15.0))
+
+
 def terzaghi_weights(normals: np.ndarray, line: np.ndarray, max_weight: float) -> np.ndarray:
     """w = 1 / |cos delta| per joint, delta the angle between its normal and the scanline, capped at
-    `max_weight` (Terzaghi 1965)."""
-    cos_delta = np.abs(normals @ line)
+    `max_weight` (Terzaghi 1965). `line`: one unit vector (3,), or one per joint (n, 3)."""
+    cos_delta = np.abs(np.sum(normals * line, axis=-1))
     with np.errstate(divide="ignore"):
         return np.minimum(1.0 / cos_delta, max_weight)
+
+
+def face_weights(normals: np.ndarray, face_normals: np.ndarray, max_weight: float) -> np.ndarray:
+    """w = 1 / sin theta per joint mapped on a planar face, theta the angle between its plane and the
+    face (between their normals), capped at `max_weight`: a face of area A is cut by joints of a set of
+    spacing s along traces of total length A sin theta / s, so the face samples each set in proportion
+    to sin theta (Rocscience Dips, "Terzaghi Weighting": W = cosec a, a the minimum angle between the
+    plane and the traverse, for a planar traverse as for a linear one). `face_normals`: (3,) or (n, 3)."""
+    cos_theta = np.clip(np.abs(np.sum(normals * face_normals, axis=-1)), 0.0, 1.0)
+    with np.errstate(divide="ignore"):
+        return np.minimum(1.0 / np.sqrt(1.0 - cos_theta**2), max_weight)
 
 
 @dataclass(frozen=True)
