@@ -287,3 +287,18 @@ def test_kinematic_figure_counts_points_by_the_mask(survey, tmp_path):
         "face 60/180",
     ):
         assert expected in text
+
+
+def test_kinematic_references_follow_the_mode(tmp_path):
+    """A mode of lines draws the plane friction cone (60 deg from the centre for phi = 30 deg) and no
+    daylight envelope; a mode that uses neither cone nor envelope (flexural toppling) draws neither."""
+    face, phi = Face(np.radians(60.0), np.radians(180.0)), np.radians(30.0)
+    zone = Zone("zone", lambda points: points[:, 1] < 0.0, "tab:red")
+    lines = line_vectors(np.radians([170.0, 10.0]), np.radians([45.0, 20.0]))
+    wedge = kinematic_figure(KinematicMode("wedge sliding", "lines", (zone,)), face, phi, lines=lines)
+    text = _texts(wedge)
+    assert "(60° from the centre)" in text and "daylight envelope" not in text
+    assert "zone: 1 of 2 lines (50.0 %)" in text
+    toppling = KinematicMode("flexural toppling", "poles", (zone,), friction_cone=False, daylight=False)
+    text = _texts(kinematic_figure(toppling, face, phi))
+    assert "friction cone" not in text and "daylight envelope" not in text

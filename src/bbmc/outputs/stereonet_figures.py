@@ -120,13 +120,16 @@ class Zone:
 @dataclass(frozen=True)
 class KinematicMode:
     """A failure mode as drawn: its name, whether its points are poles ("poles") or lines ("lines": dip
-    vectors, intersections), its zones, and its straight lateral limits (centre trend, half-width)
-    [rad] or None."""
+    vectors, intersections), its zones, its straight lateral limits (centre trend, half-width) [rad] or
+    None, and whether its criterion uses the friction cone about the vertical and (for poles) the
+    daylight envelope (flexural toppling uses neither: its zone's own edge is its slip limit)."""
 
     name: str
     vectors: str
     zones: tuple[Zone, ...]
     lateral_limits: tuple[float, float] | None = None
+    friction_cone: bool = True
+    daylight: bool = True
 
 
 @dataclass(frozen=True)
@@ -267,70 +270,73 @@ def kinematic_plot(
 ) -> NetDrawing:
     """One mode's kinematic plot on a net from `net_axes`: its zones filled from their masks (the legend
     gives how many of the points lie in each by the same mask, raw and, for a weighted survey,
-    weighted), the face, the friction cone and, for poles, the daylight envelope; then the poles by set
-    (`survey`, over their weighted density if `contours`) or the `lines` (n, 3), named `lines_name` in
-    the legend (small and translucent when there are many)."""
+    weighted), the face, the friction cone and, for poles, the daylight envelope (`plot_references`);
+    then the poles by set (`survey`, over their weighted density if `contours`) or the `lines` (n, 3),
+    named `lines_name` in the legend (small and translucent when there are many)."""
     points = survey.poles if survey is not None else lines
     handles = []
     for zone in mode.zones:
         fill_zone(ax, zone.mask, zone.colour)
         label = zone.name if points is None else zone.name + ": " + _zone_count(zone, points, mode, survey)
         handles.append(Patch(facecolor=zone.colour, alpha=0.35, edgecolor=zone.colour, label=label))
+    notes = [plot_references(ax, mode, face, friction_angle)]
+    if survey is not None and contours:
+        drawing = pole_plot(ax, survey, method="schmidt")
+        return NetDrawing(drawing.density, drawing.density_unit, handles, notes + drawing.notes)
+    if survey is not None:
+        plot_sets(ax, survey, markersize=3.5)
+        notes.append(_weight_note(survey))
+    elif lines is not None:
+        size, alpha = (3.0, 1.0) if len(lines) <= 300 else (1.5, 0.5)
+        label = f"{lines_name} (n = {len(lines)})"
+        plot_points(
+            ax, lines, color="k", markersize=size, alpha=alpha, markeredgewidth=0, zorder=3, label=label
+        )
+    return NetDrawing(None, "", handles, notes)
+
+
+def plot_references(ax: Axes, mode: KinematicMode, face: Face, friction_angle: float) -> str:
+    """The face's great circle, the friction cone (`friction_cone_angle`), the daylight envelope on a
+    pole plot and the lateral limits, as the mode asks; returns the note naming them."""
+    on_lines = " (daylight limit)" if mode.vectors == "lines" else ""
     plot_planes(
         ax,
         face.dip,
         face.dip_direction,
         color=FACE_COLOUR,
         linewidth=2.0,
-        label=f"slope face {face.text}" + (" (daylight limit)" if mode.vectors == "lines" else ""),
+        label=f"slope face {face.text}{on_lines}",
     )
-    cone = np.degrees(friction_cone_angle(friction_angle, mode.vectors))
-    plot_friction_cone(ax, friction_angle, mode.vectors, edgecolor=FRICTION_COLOUR, linewidth=1.5, zorder=2)
-    ax.plot(
-        [],
-        [],
-        color=FRICTION_COLOUR,
-        label=f"friction cone, φ = {np.degrees(friction_angle):.0f}° ({cone:.0f}° from the centre)",
-    )
-    if mode.vectors == "poles":
+    phi = np.degrees(friction_angle)
+    note = f"{mode.name}: face {face.text} (dip/dip direction), friction angle {phi:.0f}°"
+    if mode.friction_cone:
+        cone = np.degrees(friction_cone_angle(friction_angle, mode.vectors))
+        plot_friction_cone(
+            ax, friction_angle, mode.vectors, edgecolor=FRICTION_COLOUR, linewidth=1.5, zorder=2
+        )
+        ax.plot(
+            [],
+            [],
+            color=FRICTION_COLOUR,
+            label=f"friction cone, φ = {phi:.0f}° ({cone:.0f}° from the centre)",
+        )
+    if mode.vectors == "poles" and mode.daylight:
+        envelope = daylight_envelope(face.dip, face.dip_direction)
         plot_points(
             ax,
-            daylight_envelope(face.dip, face.dip_direction),
+            envelope,
             marker="",
             linestyle="-",
             color=DAYLIGHT_COLOUR,
             linewidth=1.3,
             label="daylight envelope",
         )
-    notes = [
-        f"{mode.name}: face {face.text} (dip/dip direction), friction angle {np.degrees(friction_angle):.0f}°"
-    ]
     if mode.lateral_limits is not None:
         trend, half = mode.lateral_limits
         first, _ = plot_lateral_limits(ax, trend, half)
         first.set_label(f"lateral limits ±{np.degrees(half):.0f}°")
-        notes[0] += f", lateral limits ±{np.degrees(half):.0f}° (straight)"
-    drawing = NetDrawing(None, "", handles, notes)
-    if survey is not None:
-        if contours:
-            drawing = pole_plot(ax, survey, method="schmidt")
-            drawing = NetDrawing(drawing.density, drawing.density_unit, handles, notes + drawing.notes)
-        else:
-            plot_sets(ax, survey, markersize=3.5)
-            notes.append(_weight_note(survey))
-    elif lines is not None:
-        size, alpha = (3.0, 1.0) if len(lines) <= 300 else (1.5, 0.5)
-        plot_points(
-            ax,
-            lines,
-            color="k",
-            markersize=size,
-            alpha=alpha,
-            markeredgewidth=0,
-            zorder=3,
-            label=f"{lines_name} (n = {len(lines)})",
-        )
-    return drawing
+        note += f", lateral limits ±{np.degrees(half):.0f}° (straight)"
+    return note
 
 
 def _zone_count(zone: Zone, points: np.ndarray, mode: KinematicMode, survey: PoleSurvey | None) -> str:
