@@ -15,6 +15,7 @@ first sheet). Columns, in degrees and metres:
     weight                               the reading's own weight (e.g. how many identical features), >= 0
     type, location, set                  text: joint, bedding, fault...; where; a set named in the field
     trace_length_m, position_m           trace length > 0; distance along the scanline >= 0
+    censored_ends                        how many ends of the trace are hidden: 0, 1 or 2
 
 Every column is optional but those of a convention; other columns are left alone. A row's convention is
 the one whose columns it fills (dip_direction_deg, strike_deg, pole_*, alpha_* / beta_*); the caller's
@@ -81,6 +82,7 @@ NUMBERS = {
     "weight": NON_NEGATIVE.or_blank(),
     "trace_length_m": POSITIVE.or_blank(),
     "position_m": NON_NEGATIVE.or_blank(),
+    "censored_ends": Column(0.0, 2.0).or_blank(),
 }
 TEXTS = ("type", "location", "set")
 GEOMETRIES = {
@@ -130,6 +132,7 @@ class Readings:
     set_label: np.ndarray
     trace_length: np.ndarray  # [m]
     position: np.ndarray  # [m] along the scanline
+    censored_ends: np.ndarray  # 0, 1 or 2 hidden ends of the trace (NaN: not recorded)
     lines: np.ndarray  # each reading's line (row) in the file
 
     @property
@@ -366,10 +369,18 @@ def read_readings(
     own = table["weight"].fillna(1.0).to_numpy() if "weight" in table.columns else np.ones(len(table))
 
     blank = pd.DataFrame(
-        {"type": "", "location": "", "set": "", "trace_length_m": np.nan, "position_m": np.nan},
+        {"type": "", "location": "", "set": "", "trace_length_m": np.nan, "position_m": np.nan,
+         "censored_ends": np.nan},
         index=table.index,
-    )
+    )  # fmt: skip
     table = table.combine_first(blank)
+    hidden = table["censored_ends"]
+    broken = hidden.notna() & (hidden % 1 != 0)
+    if broken.any():
+        raise ConfigError(
+            f"{path}: {word} {broken.idxmax()}: column 'censored_ends': {hidden[broken].iloc[0]:g} is not "
+            "0, 1 or 2 (the number of hidden ends of the trace)"
+        )
 
     return Readings(
         path=path,
@@ -385,5 +396,6 @@ def read_readings(
         set_label=table["set"].to_numpy(object),
         trace_length=table["trace_length_m"].to_numpy(float) * units.m,
         position=table["position_m"].to_numpy(float) * units.m,
+        censored_ends=table["censored_ends"].to_numpy(float),
         lines=table.index.to_numpy(dtype=int),
     )
