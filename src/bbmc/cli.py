@@ -30,6 +30,7 @@ from bbmc.stages import fit as fit_stage
 from bbmc.stages import fos as fos_stage
 from bbmc.stages import joint as joint_stage
 from bbmc.stages import joints as joints_stage
+from bbmc.stages import kinematics as kinematics_stage
 from bbmc.stages import mc as mc_stage
 from bbmc.stages import run as run_stage
 from bbmc.stages import shear as shear_stage
@@ -365,6 +366,26 @@ def bench_command(config_path: Path, results: str, strict: bool, only: str | Non
     """
     options = {} if only is None else {"only": [name.strip() for name in only.split(",")]}
     _run_stage(bench_stage, config_path, results, strict, progress_after_s=0.0, **options)
+
+
+@main.command(name="kinematics")
+@_file_options("kinematics", "config", "configs/kinematics.yaml")
+def kinematics_command(config_path: Path, results: str, strict: bool) -> None:
+    """Joint sets found in orientation readings as recorded (face mapping, scanlines, oriented core;
+    no set labels needed), and the kinematic analysis of a slope face: planar and wedge sliding,
+    flexural and direct toppling (docs/reference/kinematics-command.md).
+
+    \b
+    Example:
+      bbmc kinematics configs/kinematics.yaml
+    writes results/kinematics/readings.csv (each reading, its weight and its set), sets.csv (mean
+    plane, Fisher K, alpha95, counts), set_count.csv (BIC by number of sets), modes.csv (% critical
+    per mode, set and set pair, with the denominator), set_pairs.csv, compass.csv and compass.png
+    (every face dip direction), face_angles.csv and .png, probability.csv (each mode's probability
+    from the sets' scatter), joint_sets.yaml (the sets for a rock mass), poles.png and one stereonet
+    per mode (net_*.png), provenance.json
+    """
+    _run_stage(kinematics_stage, config_path, results, strict, progress_after_s=2.0)
 
 
 @main.command(name="slope")

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import click
 
-from bbmc.config import ConfigError
+from bbmc.config import ConfigError, ConfigKeyError
 from bbmc.dem.solver import SimulationError
 from bbmc.exit_status import BAD_INPUT, INTERRUPTED, NO_SAMPLE, UNSTABLE, WRITE_FAILED
 from bbmc.plausibility import ImplausibleValue
@@ -83,9 +83,11 @@ def interrupt_behind(error: BaseException | None) -> KeyboardInterrupt | None:
 @contextmanager
 def scene_at_fault(config_path: Path) -> Iterator[None]:
     """A run stopped by its scene or config itself (an unusable time step, a step budget too small to
-    decide) is bad input naming the file."""
+    decide, a key the run found meaningless) is bad input naming the file."""
     try:
         yield
+    except ConfigKeyError as error:
+        raise ConfigError(f"{config_path}: {error}") from None
     except SimulationError as error:
         if error.bad_input:
             raise ConfigError(f"{config_path}: {error}") from None

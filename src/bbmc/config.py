@@ -34,6 +34,15 @@ class ConfigError(Exception):
     """A bad config or input file: the message is the one line the user sees."""
 
 
+class ConfigKeyError(Exception):
+    """A key of the config whose value the run found meaningless (e.g. set windows that catch nothing):
+    the command turns it into a `ConfigError` naming the config file, the `key` and the `text`."""
+
+    def __init__(self, key: str, text: str) -> None:
+        super().__init__(f"key '{key}': {text}")
+        self.key, self.text = key, text
+
+
 # YAML 1.2's floats, which PyYAML (YAML 1.1) reads as strings when the exponent has no dot (1e4,
 # 1E-3, 2.5e+6 are numbers for every engineer) or when the leading zero is left out (.5).
 _FLOAT = (

@@ -27,6 +27,10 @@ from bbmc.geometry.orientation import (
     terzaghi_weights,
 )
 
+MIN_TRACES = 10  # per set: 9 spacings for at most 2 parameters
+MIN_WHOLE = 5  # traces seen whole (both ends), without which a trace length's spread is not identified
+SCENE_FAMILIES = ("exponential", "lognormal")  # the distributions a scene's joint set reads
+
 
 @dataclass(frozen=True)
 class SetFit:

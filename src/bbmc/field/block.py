@@ -35,13 +35,15 @@ class PersistenceError(ValueError):
 @dataclass(frozen=True)
 class BlockEntry:
     """One set of the block: its fitted orientation, spacing and trace length, and the given
-    persistence."""
+    persistence; a set whose spacing was not measured has `spacing` None and says why in `unmeasured`
+    (it is written with `spacing_m: null`, which a rock mass refuses until the spacing is given)."""
 
     name: str
     orientation: SetOrientation
-    spacing: Candidate
-    trace_length: Candidate
+    spacing: Candidate | None
+    trace_length: Candidate | None
     persistence: float
+    unmeasured: str = ""
 
 
 def _number(value: float) -> str:
@@ -81,12 +83,17 @@ def joint_sets_yaml(entries: list[BlockEntry], section_azimuth_deg: float, comme
     lines.append("joint_sets:")
     for entry in entries:
         o = entry.orientation
-        mean, std = line_spacing(entry.spacing, entry.persistence)
-        trace = entry.trace_length
         lines += [
             f"  - name: {entry.name}",
             f"    orientation: {{dip_deg: {o.dip / units.deg:.1f}, "
             f"dip_direction_deg: {o.dip_direction / units.deg:.1f}, fisher_k: {_number(o.fisher_k)}}}",
+        ]
+        if entry.spacing is None or entry.trace_length is None:
+            lines += [f"    spacing_m: null   # must be given: {entry.unmeasured}", "    offset_m: 0"]
+            continue
+        mean, std = line_spacing(entry.spacing, entry.persistence)
+        trace = entry.trace_length
+        lines += [
             f"    spacing_m: {_law(entry.spacing.family, mean, std)}",
             f"    trace_length_m: {_law(trace.family, trace.mean, trace.std)}",
             f"    persistence: {_number(entry.persistence)}",

@@ -19,16 +19,13 @@ from bbmc import units
 from bbmc.config import ConfigError, InputFile, Section
 from bbmc.field import block, figures
 from bbmc.field import distributions as dist
-from bbmc.field.analysis import SetFit, fit_set
+from bbmc.field.analysis import MIN_TRACES, MIN_WHOLE, SCENE_FAMILIES, SetFit, fit_set
 from bbmc.field.survey import SetSurvey, read_survey, set_names
 from bbmc.geometry.orientation import goodness, line_direction, section_trace
 from bbmc.io import StageResult
 
 NAME = "joints"
 
-MIN_TRACES = 10  # per set: 9 spacings for at most 2 parameters
-MIN_WHOLE = 5  # traces seen whole (both ends), without which a trace length's spread is not identified
-SCENE_FAMILIES = ("exponential", "lognormal")  # the distributions a scene's joint set reads
 
 Azimuth = Annotated[float, Field(ge=0, le=360)]
 
