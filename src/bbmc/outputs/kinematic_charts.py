@@ -48,11 +48,10 @@ def compass_chart(sweep: FaceSweep, friction_deg: float, dpi: int) -> Figure:
         ax.plot(theta, np.append(percent, percent[0]), color=COLOURS[mode], lw=1.6, label=label)
     ax.set_rlabel_position(100)
     ax.tick_params(labelsize=8)
-    ax.set_xlabel("face dip direction (azimuth)", fontsize=9)
     dip = math.degrees(float(sweep.dip[0]))
     ax.set_title(
-        f"Critical readings against the face's dip direction\nface dip {dip:g}°, friction {friction_deg:g}°; "
-        "radius: % of poles or of intersections critical",
+        f"Critical readings against the face's dip direction (azimuth, clockwise from north)\n"
+        f"face dip {dip:g}°, friction {friction_deg:g}°; radius: % of poles or of intersections critical",
         fontsize=10,
     )
     ax.legend(loc="upper left", bbox_to_anchor=(-0.12, -0.04), ncol=2, fontsize=8, frameon=False)
@@ -90,15 +89,19 @@ def _mask(face: Face, friction: float, limits: KinematicLimits, mode: str):
 
 def mode_drawings(face: Face, friction: float, limits: KinematicLimits) -> dict[str, KinematicMode]:
     """Each chart mode as the stereonet draws it: its zones (masks of the classification), its
-    straight lateral limits, and whether the friction cone and daylight envelope belong to it."""
-    opposite = (float(face.dip_direction) + math.pi) % (2.0 * math.pi)
+    straight lateral limits about the trend where its critical points lie (the poles of planes that
+    slide trend opposite to the face's dip direction, those of planes that topple flexurally towards
+    it, the lines of intersection of toppling blocks opposite to it), and whether the friction cone
+    and daylight envelope belong to it."""
+    towards = float(face.dip_direction)
+    opposite = (towards + math.pi) % (2.0 * math.pi)
     zone = lambda name, mode, colour: Zone(name, _mask(face, friction, limits, mode), colour)  # noqa: E731
     return {
         "planar_sliding": KinematicMode(
             "planar sliding",
             "poles",
             (zone("critical zone", "planar_sliding", "#f4a3a3"),),
-            (float(face.dip_direction), limits.planar),
+            (opposite, limits.planar),
         ),
         "wedge_sliding": KinematicMode(
             "wedge sliding",
@@ -112,7 +115,7 @@ def mode_drawings(face: Face, friction: float, limits: KinematicLimits) -> dict[
             "flexural toppling",
             "poles",
             (zone("critical zone", "flexural_toppling", "#9ec5f4"),),
-            (opposite, limits.flexural_toppling),
+            (towards, limits.flexural_toppling),
             friction_cone=False,
             daylight=False,
         ),
