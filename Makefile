@@ -8,7 +8,7 @@ STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
 
-.PHONY: reproduce test test-slow fuzz bench lint docs fit mc audit shear slope fos joint joints sweep clean
+.PHONY: reproduce test test-slow fuzz bench lint docs fit mc audit shear slope fos joint joints kinematics sweep clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/bbmc warmup
 	touch $(STAMP)
 
-reproduce: fit mc audit shear slope fos joint joints sweep
+reproduce: fit mc audit shear slope fos joint joints kinematics sweep
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -46,12 +46,16 @@ joint: $(STAMP)
 joints: $(STAMP)
 	$(BIN)/bbmc joints --config configs/joints.yaml
 
+kinematics: $(STAMP)
+	$(BIN)/bbmc kinematics configs/kinematics.yaml
+
 sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/planar_block.yaml
 	$(BIN)/bbmc sweep --config configs/sweeps/paper_slope_le.yaml
 	$(BIN)/bbmc sweep --config configs/sweeps/paper_slope_dem.yaml
 	$(BIN)/bbmc sweep configs/sweeps/benched_rock_mass.yaml
 	$(BIN)/bbmc sweep configs/sweeps/benched_rock_mass_crossed.yaml
+	$(BIN)/bbmc sweep configs/sweeps/pit_wall_kinematics.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q
