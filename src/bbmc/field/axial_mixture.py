@@ -35,10 +35,13 @@ kappa is kept within [KAPPA_MIN, KAPPA_MAX]: below it a set is indistinguishable
 and above it a component could collapse onto repeated readings (field readings are often rounded to
 whole degrees) and its likelihood grow without bound.
 
-Starts. Several starts from axial k-means++ (Arthur & Vassilijvitskii 2007, with the distance
-1 - (x . c)^2 = sin^2 of the angle between axes) plus one from the fit with one set fewer, each run a
-few iterations ("short EM", Biernacki, Celeux & Govaert 2003); the best is run to convergence. The
-random generator is the caller's, so a seed fixes the result.
+Starts. Several starts from axial k-means++ (Arthur & Vassilvitskii 2007, with the distance
+1 - (x . c)^2 = sin^2 of the angle between axes, and the chance of a reading weighted by a kernel
+estimate of the density there, so starts fall in clusters rather than on random readings); and from
+the fit with one set fewer, grown by a set where the readings are densest against that fit, or with
+each of its sets split in two along its largest spread. Each start runs a few iterations ("short EM",
+Biernacki, Celeux & Govaert 2003); the best is run to convergence. The random generator is the
+caller's, so a seed fixes the result.
 """
 
 from __future__ import annotations
@@ -188,6 +191,22 @@ def _grown(poles: np.ndarray, log_kernel: np.ndarray, previous: AxialMixture) ->
     return np.vstack([previous.axes, poles[np.argmax(log_kernel - log_p)]])
 
 
+def _splits(poles: np.ndarray, weights: np.ndarray, previous: AxialMixture) -> list[np.ndarray]:
+    """The previous fit with one of its sets split in two, for each set: its axis mu replaced by
+    mu cos d +/- e sin d, e the direction of the set's largest spread about mu (the second eigenvector
+    of sum r w x x^T over its readings) and d the angular spread along it (two sets merged into one
+    are found again this way)."""
+    _, resp = responsibilities(poles, previous)
+    starts = []
+    for j, axis in enumerate(previous.axes):
+        scatter = (poles * (weights * resp[:, j])[:, None]).T @ poles
+        values, vectors = np.linalg.eigh(scatter / max(scatter.trace(), 1e-300))
+        spread = np.arcsin(np.sqrt(np.clip(values[1], 0.0, 1.0)))
+        pair = [axis * np.cos(spread) + sign * vectors[:, 1] * np.sin(spread) for sign in (1.0, -1.0)]
+        starts.append(np.vstack([np.delete(previous.axes, j, axis=0), *pair]))
+    return starts
+
+
 def fit_axial_mixture(
     poles: np.ndarray,
     weights: np.ndarray,
@@ -200,11 +219,11 @@ def fit_axial_mixture(
     `poles` (n, 3) with case `weights` (n,) scaled to sum to n. `log_kernel` is `kernel_log_density`
     at the poles: the k-means++ chances are w times the kernel density, so starts fall where the
     readings gather rather than on scattered random ones; `previous`, a fit with one set fewer, gives
-    one more start (`_grown`)."""
+    more starts (`_grown`, `_splits`)."""
     chance = weights * np.exp(log_kernel - log_kernel.max())
     seeds = [_seed(poles, chance, [], count, rng) for _ in range(STARTS)]
-    if previous is not None:
-        seeds.append(_grown(poles, log_kernel, previous))
+    if previous is not None and previous.kappa.size:
+        seeds += [_grown(poles, log_kernel, previous), *_splits(poles, weights, previous)]
     shorts = [run_em(poles, weights, _from_centres(poles, weights, s), SHORT_ITERATIONS) for s in seeds]
     best = max(shorts, key=lambda m: m.log_likelihood)
     return run_em(poles, weights, best, MAX_ITERATIONS)
