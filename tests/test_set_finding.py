@@ -229,6 +229,15 @@ def test_a_window_about_a_pole_trend_and_plunge():
     by_plane = Window.about_plane("J1", np.radians(30.0), np.radians(100.0), np.radians(20.0))
     a, b = find_sets(survey.poles, windows=[by_pole]), find_sets(survey.poles, windows=[by_plane])
     assert np.array_equal(a.labels, b.labels) and a.sets[0].statistics.count > 100
+    trend, plunge = np.degrees(a.sets[0].pole_trend_and_plunge)
+    assert abs(trend - 280.0) < 5.0 and abs(plunge - 60.0) < 3.0
+
+
+def test_a_count_that_leaves_a_set_without_readings_is_refused():
+    """Six sets asked of eight readings of one set."""
+    survey = synthetic_survey([KnownSet(0.5, 1.0, 50.0, 8)], 0, np.random.default_rng(0))
+    with pytest.raises(ConfigError, match="6 sets leave a set with fewer than 2 readings"):
+        find_sets(survey.poles, count=6)
 
 
 def test_a_window_that_catches_nothing_is_refused_by_name():
