@@ -132,7 +132,8 @@ def test_a_tiny_search_margin_keeps_every_bridge_and_reaches_equilibrium(tmp_pat
     """At a margin of 1e-5 m the search runs every few steps; bbmc run reaches equilibrium at the same
     step, with one row per bridge contact in bridges.csv and none broken (measured: 85 searches against
     1 on the paired generator's drawing, 150 on the one before it; before the search kept bridges: no
-    equilibrium in 20,000 steps, 44 rows, 35 broken). Equilibrium is read at record steps: the steps may differ by one record."""
+    equilibrium in 20,000 steps, 44 rows, 35 broken). Equilibrium is read at record steps: the steps may
+    differ by one record."""
     tables = {}
     for name, margin in (("default", None), ("tiny", 1e-5)):
         path = tmp_path / f"{name}.yaml"
