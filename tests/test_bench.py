@@ -251,3 +251,14 @@ def test_support_section_times_the_design_search_and_says_why_without_the_commit
     design = table[table["scene"] == "design search, bolted_planar.yaml"].iloc[0]
     assert design["design_value"] == pytest.approx(2151.0, rel=0.01)
     assert design["engine_trials"] >= 1 and design["wall_time_s"] < 60
+
+
+def test_kinematics_section_writes_its_costs_with_the_issues_marks(tmp_path):
+    small = {"readings": 2000, "compass_readings": 40, "samples": 2000, "repeats": 1}
+    outcome, out = _bench(tmp_path, {"kinematics": small})
+    assert outcome.exit_code == 0, outcome.output
+    table = pd.read_csv(out / "kinematics_cost.csv").set_index("quantity")
+    assert table.loc["sets_found", "value"] == 4
+    assert table.loc["readings", "value"] == 2000
+    assert (table.loc[["set_finding_time", "compass_1deg_time"], "value"] > 0).all()
+    assert table.loc["compass_1deg_time", "mark"] == "under 2 s"

@@ -384,4 +384,22 @@ strength reduction that confirms the design), best of {repeats}.
             ),
         ],
     ),
+    Section(
+        "kinematics",
+        "Orientation analysis",
+        """
+Sets found in a synthetic survey of {readings} readings (four sets and 10 % random readings; BIC over 0
+to 6 sets) and the kinematic tally of one face (every pole; the line modes on the documented subsample
+of pairs above 5,000 readings), the compass sweep at 1° for {compass_readings} readings (every pair),
+and the modes' Monte Carlo over {samples} draws per set (four sets and their six pairs), each on one
+core, best of {repeats}. The `mark` column gives issue 34's targets.
+""",
+        [
+            Table(
+                "kinematics_cost",
+                "Set finding, tallies, the compass and the Monte Carlo",
+                ["quantity", "value", "unit", "mark"],
+            )
+        ],
+    ),
 ]

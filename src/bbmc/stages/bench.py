@@ -53,6 +53,7 @@ from bbmc.bench.bandwidth import bandwidth_table, limit_table, slope_counts
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.fos_cost import fos_cost_table
+from bbmc.bench.kinematics_cost import kinematics_cost_table
 from bbmc.bench.machine import machine_table, now_utc
 from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
@@ -77,6 +78,7 @@ SECTIONS = (
     "rockmass",
     "bandwidth",
     "support",
+    "kinematics",
 )
 
 
@@ -200,6 +202,16 @@ class SupportCost(Section):
     design_scene: InputFile
 
 
+class KinematicsCost(Section):
+    """Set finding and kinematic tallies of `readings` readings, the compass at 1 deg for
+    `compass_readings`, and Monte Carlo draws per second (`bbmc.bench.kinematics_cost`)."""
+
+    readings: Annotated[int, Field(ge=100, le=10_000_000)] = 100_000
+    compass_readings: Annotated[int, Field(ge=10, le=5_000)] = 300
+    samples: Annotated[int, Field(ge=1000, le=100_000_000)] = 1_000_000
+    repeats: Repeats
+
+
 class Config(Section):
     """The paper's scenes and the sections to run (each optional, at least one given)."""
 
@@ -216,6 +228,7 @@ class Config(Section):
     rockmass: RockMassCost | None = None
     bandwidth: Bandwidth | None = None
     support: SupportCost | None = None
+    kinematics: KinematicsCost | None = None
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
     @model_validator(mode="after")
@@ -413,6 +426,12 @@ def support_part(config: Config, scenes: PaperScenes, progress: Callable[[str], 
     return {"support_cost": table}, {}
 
 
+def kinematics_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    k = config.kinematics
+    return {"kinematics_cost": kinematics_cost_table(k.readings, k.compass_readings, k.samples, k.repeats,
+                                                     progress)}, {}  # fmt: skip
+
+
 PARTS = {
     "tradeoff": tradeoff_part,
     "economy": economy_part,
@@ -425,6 +444,7 @@ PARTS = {
     "rockmass": rockmass_part,
     "bandwidth": bandwidth_part,
     "support": support_part,
+    "kinematics": kinematics_part,
 }
 
 
