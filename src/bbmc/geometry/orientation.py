@@ -32,23 +32,39 @@ from bbmc.geometry.polygons import joint_set_trace
 
 
 def poles(dip: np.ndarray, dip_direction: np.ndarray) -> np.ndarray:
-    """Upward unit normals (N x 3) of planes of `dip` and `dip_direction` [rad]."""
-    dip, dip_direction = np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
+    """Upward unit normals (..., 3) of planes of `dip` and `dip_direction` [rad] (broadcast together):
+    n = (sin psi sin alpha, sin psi cos alpha, cos psi)."""
+    dip, dip_direction = np.broadcast_arrays(
+        np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
+    )
     return np.stack(
         [np.sin(dip) * np.sin(dip_direction), np.sin(dip) * np.cos(dip_direction), np.cos(dip)], axis=-1
     )
 
 
+def upward(normals: np.ndarray) -> np.ndarray:
+    """Unit normals (..., 3) of planes turned to their upward sense, n_z >= 0 (a plane's pole is an axis;
+    bbmc's poles are upward). A horizontal normal (n_z = 0) keeps the sense it was given in."""
+    normals = np.asarray(normals, dtype=float)
+    return np.where(normals[..., 2:3] < 0.0, -normals, normals)
+
+
+def downward(lines: np.ndarray) -> np.ndarray:
+    """Unit vectors (..., 3) of lines turned to their downward sense, l_z <= 0 (the lower hemisphere; a
+    plunge is downward positive). A horizontal line (l_z = 0) keeps the sense it was given in."""
+    lines = np.asarray(lines, dtype=float)
+    return np.where(lines[..., 2:3] > 0.0, -lines, lines)
+
+
 def line_direction(trend: float, plunge: float) -> np.ndarray:
-    """Unit vector of a line of `trend` and `plunge` (downward positive) [rad]."""
-    return np.array([np.cos(plunge) * np.sin(trend), np.cos(plunge) * np.cos(trend), -np.sin(plunge)])
+    """Unit vector (3,) of a line of `trend` and `plunge` (downward positive) [rad] (`line_vectors`)."""
+    return line_vectors(trend, plunge)
 
 
 def dip_and_direction(pole: np.ndarray) -> tuple[float, float]:
-    """Dip and dip direction [rad] of the plane with normal `pole` (either sense)."""
-    pole = pole / np.linalg.norm(pole)
-    if pole[2] < 0:
-        pole = -pole
+    """Dip and dip direction [rad] of the plane with normal `pole` (either sense): with n the upward unit
+    normal, dip = acos(n_z), dip direction = atan2(n_x, n_y) (mod 2 pi)."""
+    pole = upward(pole / np.linalg.norm(pole))
     dip = float(np.arccos(np.clip(pole[2], -1.0, 1.0)))
     return dip, float(np.arctan2(pole[0], pole[1]) % (2.0 * np.pi))
 
@@ -106,7 +122,7 @@ def fisher_orientation(normals: np.ndarray, weights: np.ndarray) -> SetOrientati
     count = normals.shape[0]
     kappa = (count - 1) / (count - length) if count - length > 1e-12 * count else np.inf
     dip, direction = dip_and_direction(mean)
-    mean = mean if mean[2] >= 0 else -mean
+    mean = upward(mean)
     aligned = np.where((aligned @ mean)[:, None] < 0, -aligned, aligned)
     deviation = np.arccos(np.clip(aligned @ mean, -1.0, 1.0))
     dips = np.arccos(np.clip(np.abs(aligned[:, 2]), 0.0, 1.0))
@@ -160,7 +176,7 @@ def section_trace(normal: np.ndarray, section_azimuth: float) -> SectionTrace:
     normal's projection on the section, m, gives tan(apparent dip) = |m_h| / m_z and the traces'
     spacing s / |m| for a true spacing s."""
     along = np.array([np.sin(section_azimuth), np.cos(section_azimuth), 0.0])
-    normal = normal if normal[2] >= 0 else -normal
+    normal = upward(normal)
     horizontal, vertical = float(normal @ along), float(normal[2])
     factor = float(np.hypot(horizontal, vertical))
     if factor < 1e-9:
@@ -225,16 +241,16 @@ def section_traces(dip_deg: np.ndarray, dip_direction_to_face_deg: np.ndarray) -
 
 
 def upward_pole(dip_deg: float, dip_direction_deg: float) -> np.ndarray:
-    """The upward unit normal (east, north, up) of a plane of this dip and dip direction (azimuth)."""
-    dip, azimuth = np.radians(dip_deg), np.radians(dip_direction_deg)
-    return np.array([np.sin(azimuth) * np.sin(dip), np.cos(azimuth) * np.sin(dip), np.cos(dip)])
+    """The upward unit normal (east, north, up) (3,) of a plane of this dip and dip direction (azimuth)
+    [deg]: `poles` at the file's degrees."""
+    return poles(np.radians(dip_deg), np.radians(dip_direction_deg))
 
 
 def plane_of_pole(pole: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Dip and dip direction [deg] of planes with these unit normals (n, 3) (either sense)."""
-    upward = pole * np.where(pole[:, 2:3] < 0, -1.0, 1.0)
-    dip = np.degrees(np.arccos(np.clip(upward[:, 2], -1.0, 1.0)))
-    return dip, np.degrees(np.arctan2(upward[:, 0], upward[:, 1])) % 360.0
+    up = upward(pole)
+    dip = np.degrees(np.arccos(np.clip(up[:, 2], -1.0, 1.0)))
+    return dip, np.degrees(np.arctan2(up[:, 0], up[:, 1])) % 360.0
 
 
 def line_vectors(trend: np.ndarray, plunge: np.ndarray) -> np.ndarray:
@@ -252,7 +268,7 @@ def trend_and_plunge(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     the sense it was given in."""
     v = np.asarray(vectors, dtype=float)
     v = v / np.linalg.norm(v, axis=-1, keepdims=True)
-    v = np.where(v[..., 2:3] > 0, -v, v)
+    v = downward(v)
     plunge = np.arcsin(np.clip(-v[..., 2], 0.0, 1.0))
     return np.arctan2(v[..., 0], v[..., 1]) % (2.0 * np.pi), plunge
 
@@ -273,7 +289,7 @@ def intersection_lines(normals_1: np.ndarray, normals_2: np.ndarray) -> tuple[np
     sine = np.linalg.norm(cross, axis=-1)
     with np.errstate(invalid="ignore", divide="ignore"):
         lines = np.where(sine[..., None] > 1e-9, cross / sine[..., None], np.nan)
-    return np.where(lines[..., 2:3] > 0, -lines, lines), sine
+    return downward(lines), sine
 
 
 def apparent_dip(dip: np.ndarray, dip_direction: np.ndarray, trend: np.ndarray) -> np.ndarray:
