@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bbmc.geometry.orientation import line_vectors
+from bbmc.geometry.orientation import line_vectors, poles, upward
 
 TWO_PI = 2.0 * np.pi
 
@@ -64,10 +64,10 @@ def true_azimuth(magnetic: np.ndarray, declination: float) -> np.ndarray:
 def top_of_core(hole_trend: np.ndarray, hole_plunge: np.ndarray) -> np.ndarray:
     """Unit vectors (..., 3) of the top-of-core line of holes of `hole_trend` and `hole_plunge` [rad]
     (plunge > 0 drilled downward, < 0 upward): the upward direction normal to the hole in its vertical
-    plane, t = (sin p sin t, sin p cos t, cos p). A vertical hole has no top; the formula's value there,
-    the horizontal line of azimuth `hole_trend`, is what an inclined hole of that trend tends to."""
-    trend, plunge = np.asarray(hole_trend, dtype=float), np.asarray(hole_plunge, dtype=float)
-    return np.stack([np.sin(plunge) * np.sin(trend), np.sin(plunge) * np.cos(trend), np.cos(plunge)], axis=-1)
+    plane, t = (sin p sin t, sin p cos t, cos p): the upward normal of the plane that holds the hole and
+    dips p towards its trend (`poles(p, t)`; p < 0: away from it). A vertical hole has no top; the formula's value there, the
+    horizontal line of azimuth `hole_trend`, is what an inclined hole of that trend tends to."""
+    return poles(hole_plunge, hole_trend)
 
 
 def core_poles(
@@ -93,4 +93,4 @@ def core_poles(
     apex = np.cos(beta) * line + np.sin(beta) * np.cross(h, line)
     alpha = np.asarray(alpha, dtype=float)[..., None]
     normal = np.sin(alpha) * h - np.cos(alpha) * apex
-    return np.where(normal[..., 2:3] < 0.0, -normal, normal)
+    return upward(normal)
