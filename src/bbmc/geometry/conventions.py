@@ -65,8 +65,9 @@ def top_of_core(hole_trend: np.ndarray, hole_plunge: np.ndarray) -> np.ndarray:
     """Unit vectors (..., 3) of the top-of-core line of holes of `hole_trend` and `hole_plunge` [rad]
     (plunge > 0 drilled downward, < 0 upward): the upward direction normal to the hole in its vertical
     plane, t = (sin p sin t, sin p cos t, cos p): the upward normal of the plane that holds the hole and
-    dips p towards its trend (`poles(p, t)`; p < 0: away from it). A vertical hole has no top; the formula's value there, the
-    horizontal line of azimuth `hole_trend`, is what an inclined hole of that trend tends to."""
+    dips p towards its trend (`poles(p, t)`; p < 0: away from it). A vertical hole has no top; the
+    formula's value there, the horizontal line of azimuth `hole_trend`, is what an inclined hole of that
+    trend tends to."""
     return poles(hole_plunge, hole_trend)
 
 
