@@ -31,15 +31,21 @@ from scipy import stats
 from bbmc.geometry.polygons import joint_set_trace
 
 
+def pole_components(
+    dip: float | np.ndarray, dip_direction: float | np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The components (x, y, z) of the upward unit normals of planes of `dip` and `dip_direction` [rad],
+    n = (sin psi sin alpha, sin psi cos alpha, cos psi), each of its own broadcast shape (n_z has the
+    shape of `dip`): the form for tests of many faces against many planes, where stacking (`poles`)
+    would first broadcast every sine to the full (F, N)."""
+    dip, dip_direction = np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
+    return np.sin(dip) * np.sin(dip_direction), np.sin(dip) * np.cos(dip_direction), np.cos(dip)
+
+
 def poles(dip: np.ndarray, dip_direction: np.ndarray) -> np.ndarray:
     """Upward unit normals (..., 3) of planes of `dip` and `dip_direction` [rad] (broadcast together):
-    n = (sin psi sin alpha, sin psi cos alpha, cos psi)."""
-    dip, dip_direction = np.broadcast_arrays(
-        np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
-    )
-    return np.stack(
-        [np.sin(dip) * np.sin(dip_direction), np.sin(dip) * np.cos(dip_direction), np.cos(dip)], axis=-1
-    )
+    n = (sin psi sin alpha, sin psi cos alpha, cos psi) (`pole_components`)."""
+    return np.stack(np.broadcast_arrays(*pole_components(dip, dip_direction)), axis=-1)
 
 
 def upward(normals: np.ndarray) -> np.ndarray:
