@@ -18,6 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bbmc.geometry.orientation import downward, upward
 from bbmc.kinematics.face import (
     ROUND_OFF,
     Face,
@@ -27,16 +28,6 @@ from bbmc.kinematics.face import (
     turned_towards,
     within_lateral_limits,
 )
-
-
-def _upward(poles: np.ndarray) -> np.ndarray:
-    poles = np.asarray(poles, dtype=float)
-    return np.where(poles[..., 2:3] < 0.0, -poles, poles)
-
-
-def _downward(lines: np.ndarray) -> np.ndarray:
-    lines = np.asarray(lines, dtype=float)
-    return np.where(lines[..., 2:3] > 0.0, -lines, lines)
 
 
 def planar_sliding(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> np.ndarray:
@@ -49,7 +40,7 @@ def planar_sliding(poles: np.ndarray, face: Face, friction, limits: KinematicLim
       circle, so the pole-envelope and dip-vector forms are one test);
     * friction: delta > phi (the pole farther than phi from the centre of the net);
     * lateral: alpha within +/-`limits.planar` of alpha_f."""
-    p = _upward(poles)
+    p = upward(poles)
     px, py, pz = components(p)
     # the dip vector scaled by sin(delta): (p_h p_z, -|p_h|^2), the same sense and daylight test
     horizontal_sq = px * px + py * py
@@ -78,7 +69,7 @@ def wedge_sliding(lines: np.ndarray, face: Face, friction) -> WedgeZones:
       cone, the face's great circle and that "friction plane", where the wedge can slide on one of
       its planes rather than along the line (as mplstereonet's WedgeSliding, after Dips).
     No lateral limits (Dips has none for wedges)."""
-    x, y, z = turned_towards(_downward(lines), face.dip_direction)
+    x, y, z = turned_towards(downward(lines), face.dip_direction)
     daylight = daylights(x, y, z, face.dip, face.dip_direction)
     steeper = -z > np.sin(friction)
     below_friction_plane = ~daylights(x, y, z, friction, face.dip_direction)
@@ -96,7 +87,7 @@ def flexural_toppling(poles: np.ndarray, face: Face, friction, limits: Kinematic
     circle is stricter than the issue's form with the true dip (see the reference page). No zone
     where psi_f <= phi. Lateral: the pole's trend within +/-`limits.flexural_toppling` of alpha_f
     (the plane dipping into the face within the limits of alpha_f + pi)."""
-    x, y, z = turned_towards(-_upward(poles), face.dip_direction)
+    x, y, z = turned_towards(-upward(poles), face.dip_direction)
     slip_dip = np.asarray(face.dip) - np.asarray(friction)
     outside = daylights(x, y, z, slip_dip, face.dip_direction) & (slip_dip > 0.0)
     lateral = within_lateral_limits(x, y, z, face.dip_direction, limits.flexural_toppling, limits.curved)
@@ -140,7 +131,7 @@ def direct_toppling(lines: np.ndarray, face: Face, friction, limits: KinematicLi
     """Direct toppling of the lines of intersection `lines` (Dips "Critical Intersections"): zones 1
     and 2 are the intersections that can cut toppling blocks, zone 3 oblique toppling."""
     into = np.asarray(face.dip_direction) + np.pi
-    x, y, z = turned_towards(_downward(lines), into)
+    x, y, z = turned_towards(downward(lines), into)
     return direct_toppling_zones(x, y, z, face, friction, limits)
 
 
@@ -150,7 +141,7 @@ def base_planes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits
     than psi_f (the blocks can slide on it as they topple); zones 2 and 3: flatter than phi (release
     without sliding; zone 3 oblique)."""
     into = np.asarray(face.dip_direction) + np.pi
-    x, y, z = turned_towards(-_upward(poles), into)
+    x, y, z = turned_towards(-upward(poles), into)
     return direct_toppling_zones(x, y, z, face, friction, limits)
 
 

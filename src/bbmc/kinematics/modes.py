@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from bbmc.geometry.orientation import downward
 from bbmc.kinematics.criteria import (
     base_planes,
     direct_toppling,
@@ -73,6 +74,5 @@ def critical_zone_masks(
     pole mode the mask of the points that, read as poles, are critical; for a line mode, of the
     points that, read as lines, are critical. The stereonet fills its zones from these masks."""
     limits = KinematicLimits() if limits is None else limits
-    down = np.asarray(points, dtype=float)
-    down = np.where(down[..., 2:3] > 0.0, -down, down)
+    down = downward(points)
     return pole_modes(-down, face, friction, limits) | line_modes(down, face, friction, limits)

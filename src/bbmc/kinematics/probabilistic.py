@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbmc.geometry.orientation import fisher_sample, intersection_lines
+from bbmc.geometry.orientation import fisher_sample, intersection_lines, upward
 from bbmc.kinematics.criteria import set_pair_friction
 from bbmc.kinematics.face import Face, KinematicLimits
 from bbmc.kinematics.modes import LINE_MODES, POLE_MODES, line_modes, pole_modes
@@ -36,10 +36,6 @@ class ModeProbability:
     probability: float
     standard_error: float
     samples: int
-
-
-def _upward(normals: np.ndarray) -> np.ndarray:
-    return np.where(normals[:, 2:3] < 0.0, -normals, normals)
 
 
 def _rows(modes: tuple[str, ...], hits: dict[str, int], group: str, samples: int) -> list[ModeProbability]:
@@ -67,7 +63,7 @@ def mode_probabilities(set_means, set_kappas, face: Face, friction, limits: Kine
     for start in range(0, samples, CHUNK_SAMPLES):
         size = min(CHUNK_SAMPLES, samples - start)
         draws = [
-            _upward(fisher_sample(m, float(k), size, rng)) for m, k in zip(means, set_kappas, strict=True)
+            upward(fisher_sample(m, float(k), size, rng)) for m, k in zip(means, set_kappas, strict=True)
         ]
         for s, normals in enumerate(draws):
             for mode, mask in pole_modes(normals, face, friction[s], limits).items():
