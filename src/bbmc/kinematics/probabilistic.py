@@ -22,6 +22,7 @@ from bbmc.geometry.orientation import fisher_sample, intersection_lines, upward
 from bbmc.kinematics.criteria import set_pair_friction
 from bbmc.kinematics.face import Face, KinematicLimits
 from bbmc.kinematics.modes import LINE_MODES, POLE_MODES, line_modes, pole_modes
+from bbmc.kinematics.tallies import names_of_sets
 
 CHUNK_SAMPLES = 1 << 19
 
@@ -56,7 +57,7 @@ def mode_probabilities(set_means, set_kappas, face: Face, friction, limits: Kine
     rng = np.random.default_rng(0) if rng is None else rng
     means = np.asarray(set_means, dtype=float)
     friction = np.broadcast_to(np.asarray(friction, dtype=float), (len(means),))
-    names = list(set_names) if set_names is not None else [f"set {s + 1}" for s in range(len(means))]
+    names = names_of_sets(len(means), set_names)
     pole_hits = [dict.fromkeys(POLE_MODES, 0) for _ in means]
     pairs = [(a, b) for a in range(len(means)) for b in range(a + 1, len(means))]
     line_hits = {pair: dict.fromkeys(LINE_MODES, 0) for pair in pairs}

@@ -13,10 +13,12 @@ Weights are the readings' weights (Terzaghi's, or 1); a percentage is 100 sum(w 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from bbmc.geometry.orientation import trend_and_plunge
 from bbmc.kinematics.criteria import set_pair_friction
 from bbmc.kinematics.face import Face, KinematicLimits
 from bbmc.kinematics.intersections import PairPlan, pair_chunks, pair_lines, pair_plan, set_pair_lines
@@ -65,7 +67,8 @@ class KinematicTally:
         return [(p.set_a, p.set_b) for p in self.set_pairs if mode in p.critical_modes]
 
 
-def _names(count: int, set_names) -> list[str]:
+def names_of_sets(count: int, set_names: Sequence[str] | None = None) -> list[str]:
+    """The caller's names of `count` sets, else "set 1", "set 2", ..."""
     return list(set_names) if set_names is not None else [f"set {s + 1}" for s in range(count)]
 
 
@@ -120,7 +123,7 @@ def reading_groups(sets, count: int, set_names=None) -> tuple[np.ndarray, dict[i
     is group s, the random readings group k (k sets); and the groups' names ("set 1", ...)."""
     labels = np.full(count, -1) if sets is None else np.asarray(sets, dtype=int)
     k = int(labels.max()) + 1 if labels.size else 0
-    return np.where(labels < 0, k, labels), dict(enumerate(_names(k, set_names))) | {k: "random"}
+    return np.where(labels < 0, k, labels), dict(enumerate(names_of_sets(k, set_names))) | {k: "random"}
 
 
 def pair_groups(code_i: np.ndarray, code_j: np.ndarray, names: dict[int, str]) -> tuple[np.ndarray, dict]:
@@ -169,20 +172,18 @@ def set_pair_modes(set_means, face: Face, set_friction, limits: KinematicLimits,
     (friction of a pair: the smaller of the two sets')."""
     means = np.asarray(set_means, dtype=float)
     friction = np.broadcast_to(np.asarray(set_friction, dtype=float), (len(means),))
-    names = _names(len(means), set_names)
+    names = names_of_sets(len(means), set_names)
     pairs = set_pair_lines(means)
     defined = ~np.isnan(pairs.lines[:, 0])
     lines = np.where(defined[:, None], pairs.lines, [0.0, 0.0, -1.0])
     modes = line_modes(lines, face, set_pair_friction(friction[pairs.set_a], friction[pairs.set_b]), limits)
+    trends, plunges = trend_and_plunge(lines)
     out = []
     for n, (a, b) in enumerate(zip(pairs.set_a, pairs.set_b, strict=True)):
         if not defined[n]:
             continue
-        line = lines[n]
-        trend = float(np.arctan2(line[0], line[1]) % (2.0 * np.pi))
-        plunge = float(np.arcsin(np.clip(-line[2], 0.0, 1.0)))
         critical = tuple(m for m in LINE_MODES if modes[m][n])
-        out.append(SetPairModes(names[a], names[b], trend, plunge, critical))
+        out.append(SetPairModes(names[a], names[b], float(trends[n]), float(plunges[n]), critical))
     return out
 
 
