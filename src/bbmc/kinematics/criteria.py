@@ -30,7 +30,9 @@ from bbmc.kinematics.face import (
 )
 
 
-def planar_sliding(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> np.ndarray:
+def planar_sliding(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> np.ndarray:
     """Planar sliding (Dips "Planar Sliding"; Hudson & Harrison 1997, sec. 18.3): the pole inside the
     daylight envelope, outside the friction cone, within the lateral limits.
 
@@ -58,7 +60,7 @@ class WedgeZones(NamedTuple):
     secondary: np.ndarray
 
 
-def wedge_sliding(lines: np.ndarray, face: Face, friction) -> WedgeZones:
+def wedge_sliding(lines: np.ndarray, face: Face, friction: float | np.ndarray) -> WedgeZones:
     """Wedge sliding (Dips "Wedge Sliding"; Hudson & Harrison 1997, sec. 18.4): lines of intersection
     of plunge p and trend t.
 
@@ -76,7 +78,9 @@ def wedge_sliding(lines: np.ndarray, face: Face, friction) -> WedgeZones:
     return WedgeZones(daylight & steeper, daylight & ~steeper & below_friction_plane)
 
 
-def flexural_toppling(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> np.ndarray:
+def flexural_toppling(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> np.ndarray:
     """Flexural toppling (Goodman 1980, sec. 8.4; Dips "Flexural Toppling"): the pole outside the
     slip-limit plane and within the lateral limits.
 
@@ -104,7 +108,12 @@ class DirectTopplingZones(NamedTuple):
 
 
 def direct_toppling_zones(
-    x: np.ndarray, y: np.ndarray, z: np.ndarray, face: Face, friction, limits: KinematicLimits
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    face: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits,
 ) -> DirectTopplingZones:
     """The zones of Dips' "Direct Toppling" page (after Hudson & Harrison 1997, sec. 18.5) of
     downward unit vectors (x, y, z) of plunge p and trend t, with alpha_i = alpha_f + pi, the
@@ -127,7 +136,9 @@ def direct_toppling_zones(
     return DirectTopplingZones(primary & ~in_cone, primary & in_cone, ~lateral & in_cone & into_slope)
 
 
-def direct_toppling(lines: np.ndarray, face: Face, friction, limits: KinematicLimits) -> DirectTopplingZones:
+def direct_toppling(
+    lines: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> DirectTopplingZones:
     """Direct toppling of the lines of intersection `lines` (Dips "Critical Intersections"): zones 1
     and 2 are the intersections that can cut toppling blocks, zone 3 oblique toppling."""
     into = np.asarray(face.dip_direction) + np.pi
@@ -135,7 +146,9 @@ def direct_toppling(lines: np.ndarray, face: Face, friction, limits: KinematicLi
     return direct_toppling_zones(x, y, z, face, friction, limits)
 
 
-def base_planes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> DirectTopplingZones:
+def base_planes(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> DirectTopplingZones:
     """The base planes of direct toppling (Dips "Critical Base Planes"): the lower-hemisphere poles
     in the same zones. Zone 1: a base plane dipping out of the face more steeply than phi and less
     than psi_f (the blocks can slide on it as they topple); zones 2 and 3: flatter than phi (release
@@ -145,7 +158,7 @@ def base_planes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits
     return direct_toppling_zones(x, y, z, face, friction, limits)
 
 
-def set_pair_friction(friction_1, friction_2) -> np.ndarray:
+def set_pair_friction(friction_1: float | np.ndarray, friction_2: float | np.ndarray) -> np.ndarray:
     """The friction angle of a wedge or a block edge cut by two planes: the smaller of the two
     planes' angles (the conservative choice; Dips takes one angle for all intersections)."""
     return np.minimum(friction_1, friction_2)

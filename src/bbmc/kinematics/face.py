@@ -75,7 +75,9 @@ def turned_towards(vectors: np.ndarray, azimuth: float | np.ndarray) -> tuple[np
     return x * sign, y * sign, z  # z of a flat vector is below round-off: its sign is immaterial
 
 
-def daylights(x: np.ndarray, y: np.ndarray, z: np.ndarray, dip, dip_direction) -> np.ndarray:
+def daylights(
+    x: np.ndarray, y: np.ndarray, z: np.ndarray, dip: float | np.ndarray, dip_direction: float | np.ndarray
+) -> np.ndarray:
     """True where the downward direction (x, y, z) points out of the plane (`dip`, `dip_direction`)
     into the air above it: v . n > 0, n the plane's upward normal. For a line of plunge p and trend t
     this is tan p < tan(dip) cos(t - dip direction), the line plunging less steeply than the plane's
@@ -85,7 +87,9 @@ def daylights(x: np.ndarray, y: np.ndarray, z: np.ndarray, dip, dip_direction) -
     return x * nx + y * ny + z * nz > ROUND_OFF
 
 
-def within_lateral_limits(x, y, z, azimuth, limit: float, curved: bool) -> np.ndarray:
+def within_lateral_limits(
+    x: np.ndarray, y: np.ndarray, z: np.ndarray, azimuth: float | np.ndarray, limit: float, curved: bool
+) -> np.ndarray:
     """True where the vector (x, y, z) lies within +/-`limit` of `azimuth` [rad] (inclusive).
 
     Straight (Dips): the horizontal part h, its azimuth within the limits, h . a >= |h| cos(limit),

@@ -42,7 +42,9 @@ LINE_MODES = (
 )
 
 
-def pole_modes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> dict[str, np.ndarray]:
+def pole_modes(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> dict[str, np.ndarray]:
     """The critical mask of each pole mode for planes of upward unit normals `poles` (N, 3)."""
     base = base_planes(poles, face, friction, limits)
     return {
@@ -54,7 +56,9 @@ def pole_modes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits)
     }
 
 
-def line_modes(lines: np.ndarray, face: Face, friction, limits: KinematicLimits) -> dict[str, np.ndarray]:
+def line_modes(
+    lines: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> dict[str, np.ndarray]:
     """The critical mask of each line mode for lines of intersection `lines` (N, 3)."""
     wedge = wedge_sliding(lines, face, friction)
     topple = direct_toppling(lines, face, friction, limits)

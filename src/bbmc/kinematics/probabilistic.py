@@ -14,6 +14,7 @@ or 0 as the mean pole (or the means' intersection) is critical or not. Draws go 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,9 +48,16 @@ def _rows(modes: tuple[str, ...], hits: dict[str, int], group: str, samples: int
     return rows
 
 
-def mode_probabilities(set_means, set_kappas, face: Face, friction, limits: KinematicLimits | None = None,
-                       samples: int = 1_000_000, rng: np.random.Generator | None = None,
-                       set_names=None) -> list[ModeProbability]:  # fmt: skip
+def mode_probabilities(
+    set_means: np.ndarray,
+    set_kappas: np.ndarray,
+    face: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits | None = None,
+    samples: int = 1_000_000,
+    rng: np.random.Generator | None = None,
+    set_names: Sequence[str] | None = None,
+) -> list[ModeProbability]:
     """Per set, the probability of each pole mode; per pair of sets, of each line mode. `set_means`
     (k, 3) mean poles, `set_kappas` (k,) Fisher K, `friction` [rad] one or per set (a pair takes the
     smaller), `samples` draws per set."""

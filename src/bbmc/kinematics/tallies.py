@@ -72,7 +72,9 @@ def names_of_sets(count: int, set_names: Sequence[str] | None = None) -> list[st
     return list(set_names) if set_names is not None else [f"set {s + 1}" for s in range(count)]
 
 
-def percentage(critical, weight, weight_sq, sampled: bool) -> tuple[np.ndarray, np.ndarray]:
+def percentage(
+    critical: float | np.ndarray, weight: float | np.ndarray, weight_sq: float | np.ndarray, sampled: bool
+) -> tuple[np.ndarray, np.ndarray]:
     """100 p, p = critical / weight, and its binomial standard error 100 sqrt(p (1 - p) / m_eff),
     m_eff = weight^2 / weight_sq (Kish), when the items were `sampled`; 0 when all were taken."""
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -88,7 +90,7 @@ def _accumulate(sums: np.ndarray, code: np.ndarray, values: np.ndarray, size: in
 class _Groups:
     """Weighted sums per group code: sum w, sum w^2, count, and per mode sum w and count critical."""
 
-    def __init__(self, size: int, modes: tuple[str, ...]):
+    def __init__(self, size: int, modes: tuple[str, ...]) -> None:
         self.size, self.modes = size, modes
         self.weight, self.weight_sq, self.count = np.zeros(size), np.zeros(size), np.zeros(size)
         self.critical = {m: np.zeros(size) for m in modes}
@@ -114,11 +116,15 @@ class _Groups:
         w, w2 = self.weight[codes].sum(), self.weight_sq[codes].sum()
         c = self.critical[mode][codes].sum()
         percent, error = percentage(c, w, w2, sampled)
-        return ModeTally(mode, name, float(c), float(w), int(self.count_critical[mode][codes].sum()),
-                         int(self.count[codes].sum()), float(percent), float(error), denominator)  # fmt: skip
+        count_critical, count = int(self.count_critical[mode][codes].sum()), int(self.count[codes].sum())
+        return ModeTally(
+            mode, name, float(c), float(w), count_critical, count, float(percent), float(error), denominator
+        )
 
 
-def reading_groups(sets, count: int, set_names=None) -> tuple[np.ndarray, dict[int, str]]:
+def reading_groups(
+    sets: np.ndarray | None, count: int, set_names: Sequence[str] | None = None
+) -> tuple[np.ndarray, dict[int, str]]:
     """Group codes of `count` readings from their set labels (-1 random; None: all random): set s
     is group s, the random readings group k (k sets); and the groups' names ("set 1", ...)."""
     labels = np.full(count, -1) if sets is None else np.asarray(sets, dtype=int)
@@ -126,7 +132,9 @@ def reading_groups(sets, count: int, set_names=None) -> tuple[np.ndarray, dict[i
     return np.where(labels < 0, k, labels), dict(enumerate(names_of_sets(k, set_names))) | {k: "random"}
 
 
-def pair_groups(code_i: np.ndarray, code_j: np.ndarray, names: dict[int, str]) -> tuple[np.ndarray, dict]:
+def pair_groups(
+    code_i: np.ndarray, code_j: np.ndarray, names: dict[int, str]
+) -> tuple[np.ndarray, dict[int, str]]:
     """Group codes of pairs of readings of group codes i and j (unordered), and their names."""
     size = len(names)
     a, b = np.minimum(code_i, code_j), np.maximum(code_i, code_j)
@@ -134,8 +142,15 @@ def pair_groups(code_i: np.ndarray, code_j: np.ndarray, names: dict[int, str]) -
     return a * size + b, pair_names
 
 
-def pole_tallies(poles, face: Face, friction, limits: KinematicLimits, sets=None, weights=None,
-                 set_names=None) -> list[ModeTally]:  # fmt: skip
+def pole_tallies(
+    poles: np.ndarray,
+    face: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits,
+    sets: np.ndarray | None = None,
+    weights: np.ndarray | None = None,
+    set_names: Sequence[str] | None = None,
+) -> list[ModeTally]:
     """Per pole mode: the critical readings of the survey, of each set and of the random ones."""
     poles = np.asarray(poles, dtype=float)
     weights = np.ones(len(poles)) if weights is None else np.asarray(weights, dtype=float)
@@ -145,8 +160,16 @@ def pole_tallies(poles, face: Face, friction, limits: KinematicLimits, sets=None
     return groups.rows(names, False, "readings of the group, weighted")
 
 
-def pair_tallies(poles, face: Face, friction, limits: KinematicLimits, plan: PairPlan, sets=None,
-                 weights=None, set_names=None) -> tuple[list[ModeTally], int]:  # fmt: skip
+def pair_tallies(
+    poles: np.ndarray,
+    face: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits,
+    plan: PairPlan,
+    sets: np.ndarray | None = None,
+    weights: np.ndarray | None = None,
+    set_names: Sequence[str] | None = None,
+) -> tuple[list[ModeTally], int]:
     """Per line mode: the critical lines of intersection of the plan's pairs of readings, for all
     pairs and per pair of groups; and the number of parallel pairs left out."""
     poles = np.asarray(poles, dtype=float)
@@ -166,8 +189,13 @@ def pair_tallies(poles, face: Face, friction, limits: KinematicLimits, plan: Pai
     return groups.rows(pair_names, not plan.exact, denominator), parallel
 
 
-def set_pair_modes(set_means, face: Face, set_friction, limits: KinematicLimits,
-                   set_names=None) -> list[SetPairModes]:  # fmt: skip
+def set_pair_modes(
+    set_means: np.ndarray,
+    face: Face,
+    set_friction: float | np.ndarray,
+    limits: KinematicLimits,
+    set_names: Sequence[str] | None = None,
+) -> list[SetPairModes]:
     """The line of intersection of every pair of set means and the line modes it is critical for
     (friction of a pair: the smaller of the two sets')."""
     means = np.asarray(set_means, dtype=float)
@@ -187,9 +215,18 @@ def set_pair_modes(set_means, face: Face, set_friction, limits: KinematicLimits,
     return out
 
 
-def kinematic_tally(poles, face: Face, friction, limits: KinematicLimits | None = None, sets=None,
-                    weights=None, set_means=None, set_friction=None, set_names=None,
-                    plan: PairPlan | None = None) -> KinematicTally:  # fmt: skip
+def kinematic_tally(
+    poles: np.ndarray,
+    face: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits | None = None,
+    sets: np.ndarray | None = None,
+    weights: np.ndarray | None = None,
+    set_means: np.ndarray | None = None,
+    set_friction: float | np.ndarray | None = None,
+    set_names: Sequence[str] | None = None,
+    plan: PairPlan | None = None,
+) -> KinematicTally:
     """Every mode's tallies for one face: readings (N, 3) upward unit normals with optional set
     labels (-1 random) and weights; `friction` [rad] a float or one per reading; `set_means` (k, 3)
     with `set_friction` (float or k) for the set pairs' intersections; the pairs by `plan`
@@ -202,6 +239,6 @@ def kinematic_tally(poles, face: Face, friction, limits: KinematicLimits | None 
     if set_means is not None and len(set_means) > 1:
         if set_friction is None and np.ndim(friction) > 0:
             raise ValueError("friction per reading: give set_friction for the set pairs' intersections")
-        pairs = set_pair_modes(set_means, face, friction if set_friction is None else set_friction, limits,
-                               set_names)  # fmt: skip
+        pair_friction = friction if set_friction is None else set_friction
+        pairs = set_pair_modes(set_means, face, pair_friction, limits, set_names)
     return KinematicTally(tuple(rows + pair_rows), tuple(pairs), plan, parallel)
