@@ -242,8 +242,8 @@ def section_traces(dip_deg: np.ndarray, dip_direction_to_face_deg: np.ndarray) -
         [joint_set_trace(d, b) for d, b in zip(dip_deg, dip_direction_to_face_deg, strict=True)]
     ).reshape(-1, 3)
     normal = rows[:, :2].reshape(-1, 2) * np.where(rows[:, 1:2] < 0, -1.0, 1.0)
-    return SectionTraces(np.asarray(dip_deg, float), np.asarray(dip_direction_to_face_deg, float), normal,
-                         rows[:, 2])  # fmt: skip
+    dips, directions = np.asarray(dip_deg, float), np.asarray(dip_direction_to_face_deg, float)
+    return SectionTraces(dips, directions, normal, rows[:, 2])
 
 
 def upward_pole(dip_deg: float, dip_direction_deg: float) -> np.ndarray:
@@ -329,5 +329,5 @@ def fisher_sample(mean: np.ndarray, kappa: float, count: int, rng: np.random.Gen
     e1 = np.cross(mean, helper)
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(mean, e1)
-    return (cos_theta[:, None] * mean + (sin_theta * np.cos(azimuth))[:, None] * e1
-            + (sin_theta * np.sin(azimuth))[:, None] * e2)  # fmt: skip
+    in_plane = cos_theta[:, None] * mean + (sin_theta * np.cos(azimuth))[:, None] * e1
+    return in_plane + (sin_theta * np.sin(azimuth))[:, None] * e2
