@@ -62,6 +62,13 @@ def downward(lines: np.ndarray) -> np.ndarray:
     return np.where(lines[..., 2:3] > 0.0, -lines, lines)
 
 
+def wrapped_azimuth(angle: float | np.ndarray, full_turn: float = 2.0 * np.pi) -> np.ndarray:
+    """`angle` as an azimuth in [0, `full_turn`) (2 pi [rad], or 360 [deg]): angle mod full_turn, where
+    the modulo of a tiny negative angle, which rounds up to exactly `full_turn`, is taken as 0."""
+    wrapped = np.mod(angle, full_turn)
+    return wrapped - full_turn * (wrapped >= full_turn)
+
+
 def line_direction(trend: float, plunge: float) -> np.ndarray:
     """Unit vector (3,) of a line of `trend` and `plunge` (downward positive) [rad] (`line_vectors`)."""
     return line_vectors(trend, plunge)
@@ -72,7 +79,7 @@ def dip_and_direction(pole: np.ndarray) -> tuple[float, float]:
     normal, dip = acos(n_z), dip direction = atan2(n_x, n_y) (mod 2 pi)."""
     pole = upward(pole / np.linalg.norm(pole))
     dip = float(np.arccos(np.clip(pole[2], -1.0, 1.0)))
-    return dip, float(np.arctan2(pole[0], pole[1]) % (2.0 * np.pi))
+    return dip, float(wrapped_azimuth(np.arctan2(pole[0], pole[1])))
 
 
 # Rocscience Dips' default cap on the weights: its "minimum bias angle" of 15 deg, w <= 1 / sin 15 deg.
@@ -187,7 +194,7 @@ def section_trace(normal: np.ndarray, section_azimuth: float) -> SectionTrace:
     factor = float(np.hypot(horizontal, vertical))
     if factor < 1e-9:
         return SectionTrace(np.nan, np.nan, 0.0)
-    towards = section_azimuth if horizontal >= 0 else (section_azimuth + np.pi) % (2.0 * np.pi)
+    towards = section_azimuth if horizontal >= 0 else wrapped_azimuth(section_azimuth + np.pi)
     return SectionTrace(float(np.arctan2(abs(horizontal), vertical)), float(towards), factor)
 
 
@@ -253,10 +260,11 @@ def upward_pole(dip_deg: float, dip_direction_deg: float) -> np.ndarray:
 
 
 def plane_of_pole(pole: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Dip and dip direction [deg] of planes with these unit normals (n, 3) (either sense)."""
+    """Dip and dip direction [deg] of planes with these unit normals (n, 3) (either sense): with n the
+    upward normal, dip = acos(n_z), dip direction = atan2(n_x, n_y) in [0, 360)."""
     up = upward(pole)
     dip = np.degrees(np.arccos(np.clip(up[:, 2], -1.0, 1.0)))
-    return dip, np.degrees(np.arctan2(up[:, 0], up[:, 1])) % 360.0
+    return dip, wrapped_azimuth(np.degrees(np.arctan2(up[:, 0], up[:, 1])), 360.0)
 
 
 def line_vectors(trend: np.ndarray, plunge: np.ndarray) -> np.ndarray:
@@ -269,21 +277,21 @@ def line_vectors(trend: np.ndarray, plunge: np.ndarray) -> np.ndarray:
 
 
 def trend_and_plunge(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Trend (0 to 2 pi) and plunge (0 to pi/2) [rad] of lines along `vectors` (..., 3), either sense:
+    """Trend in [0, 2 pi) and plunge (0 to pi/2) [rad] of lines along `vectors` (..., 3), either sense:
     an upward vector is turned down first (the lower hemisphere). A horizontal line keeps the trend of
     the sense it was given in."""
     v = np.asarray(vectors, dtype=float)
     v = v / np.linalg.norm(v, axis=-1, keepdims=True)
     v = downward(v)
     plunge = np.arcsin(np.clip(-v[..., 2], 0.0, 1.0))
-    return np.arctan2(v[..., 0], v[..., 1]) % (2.0 * np.pi), plunge
+    return wrapped_azimuth(np.arctan2(v[..., 0], v[..., 1])), plunge
 
 
 def pole_trend_and_plunge(dip: np.ndarray, dip_direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The lower-hemisphere pole of planes of `dip` and `dip_direction` [rad]: trend = dip direction +
     pi, plunge = pi/2 - dip."""
     dip, dip_direction = np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
-    return (dip_direction + np.pi) % (2.0 * np.pi), np.pi / 2.0 - dip
+    return wrapped_azimuth(dip_direction + np.pi), np.pi / 2.0 - dip
 
 
 def intersection_lines(normals_1: np.ndarray, normals_2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
