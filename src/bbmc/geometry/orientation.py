@@ -124,7 +124,9 @@ def _normalised(weights: np.ndarray) -> np.ndarray:
 
 
 def fisher_orientation(normals: np.ndarray, weights: np.ndarray) -> SetOrientation:
-    """The weighted mean pole and Fisher's K = (N - 1) / (N - R) of poles taken as axes."""
+    """The weighted mean pole and Fisher's K = (N - 1) / (N - R) of poles taken as axes (Fisher 1953; the
+    estimator Rocscience Dips uses): N the number of poles, the `weights` scaled to sum to N, R the length
+    of the weighted resultant of the poles turned to the side of the principal axis. Angles [rad]."""
     w = _normalised(weights)
     _, vectors = np.linalg.eigh((normals * w[:, None]).T @ normals)
     axis = vectors[:, -1]
@@ -156,20 +158,22 @@ def dip_orientation(dips: np.ndarray, dip_direction: float, weights: np.ndarray)
 
 
 def fisher_log_likelihood(deviation: np.ndarray, kappa: float) -> float:
-    """Log-likelihood of Fisher's density kappa / (4 pi sinh kappa) exp(kappa cos theta) [1/sr] at the
-    angles `deviation` from the mean pole."""
+    """Log-likelihood of Fisher's density kappa / (4 pi sinh kappa) exp(kappa cos theta) [1/sr] (Fisher
+    1953) at the angles `deviation` [rad] from the mean pole."""
     log_norm = np.log(kappa / (2.0 * np.pi)) - kappa - np.log1p(-np.exp(-2.0 * kappa))
     return float(np.sum(log_norm + kappa * np.cos(deviation)))
 
 
 def fisher_deviation_cdf(theta: np.ndarray, kappa: float) -> np.ndarray:
-    """P(angle from the mean pole <= theta) under Fisher's distribution:
+    """P(angle from the mean pole <= theta [rad]) under Fisher's distribution (Fisher 1953):
     (1 - exp(-kappa (1 - cos theta))) / (1 - exp(-2 kappa))."""
     return -np.expm1(-kappa * (1.0 - np.cos(theta))) / -np.expm1(-2.0 * kappa)
 
 
 def fisher_deviation_pdf(theta: np.ndarray, kappa: float) -> np.ndarray:
-    """Density of the angle theta [1/rad] from the mean pole under Fisher's distribution."""
+    """Density [1/rad] of the angle theta [rad] from the mean pole under Fisher's distribution (Fisher
+    1953), the derivative of `fisher_deviation_cdf`: kappa sin theta exp(-kappa (1 - cos theta)) /
+    (1 - exp(-2 kappa))."""
     return kappa * np.sin(theta) * np.exp(-kappa * (1.0 - np.cos(theta))) / -np.expm1(-2.0 * kappa)
 
 

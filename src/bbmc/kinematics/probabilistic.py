@@ -58,9 +58,11 @@ def mode_probabilities(
     rng: np.random.Generator | None = None,
     set_names: Sequence[str] | None = None,
 ) -> list[ModeProbability]:
-    """Per set, the probability of each pole mode; per pair of sets, of each line mode. `set_means`
-    (k, 3) mean poles, `set_kappas` (k,) Fisher K, `friction` [rad] one or per set (a pair takes the
-    smaller), `samples` draws per set."""
+    """Per set, the probability of each pole mode; per pair of sets, of each line mode: p = the fraction
+    of `samples` Fisher draws (Fisher 1953; per set) or of their pairwise intersections (per pair of sets)
+    that is critical, with the binomial standard error sqrt(p (1 - p) / samples). `set_means` (k, 3)
+    mean poles, `set_kappas` (k,) Fisher K, `friction` [rad] one or per set (a pair takes the smaller,
+    `set_pair_friction`)."""
     limits = KinematicLimits() if limits is None else limits
     rng = np.random.default_rng(0) if rng is None else rng
     means = np.asarray(set_means, dtype=float)
