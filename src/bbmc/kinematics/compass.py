@@ -18,11 +18,10 @@ from typing import Any
 
 import numpy as np
 
-from bbmc.kinematics.criteria import set_pair_friction
 from bbmc.kinematics.face import Face, KinematicLimits
-from bbmc.kinematics.intersections import PairPlan, pair_chunks, pair_lines, pair_plan
+from bbmc.kinematics.intersections import PairPlan, pair_plan
 from bbmc.kinematics.modes import LINE_MODES, POLE_MODES, line_modes, pole_modes
-from bbmc.kinematics.tallies import pair_groups, percentage, reading_groups
+from bbmc.kinematics.tallies import pair_groups, percentage, reading_groups, reading_pairs
 
 BLOCK_ELEMENTS = 1 << 22
 
@@ -119,17 +118,12 @@ def sweep_faces(
     pole_matrix = _group_matrix(code, weights, len(names))
     _add_blocks(critical, faces, poles, pole_matrix, partial(pole_modes, friction=friction, limits=limits))
     pair_weight, pair_weight_sq = np.zeros(len(names) ** 2 + 1), np.zeros(len(names) ** 2 + 1)
-    for i, j in pair_chunks(plan):
-        lines, defined = pair_lines(poles, i, j)
-        i, j, lines = i[defined], j[defined], lines[defined]
-        pair_code, _ = pair_groups(code[i], code[j], names)
-        matrix = _group_matrix(pair_code, weights[i] * weights[j], len(names) ** 2)
+    for chunk in reading_pairs(poles, plan, code, names, weights, friction):
+        matrix = _group_matrix(chunk.code, chunk.weight, len(names) ** 2)
         pair_weight += matrix.sum(axis=0)
         pair_weight_sq += (matrix**2).sum(axis=0)
-        pair_friction = set_pair_friction(friction[i], friction[j])
-        _add_blocks(
-            critical, faces, lines, matrix, partial(line_modes, friction=pair_friction, limits=limits)
-        )
+        modes_of = partial(line_modes, friction=chunk.friction, limits=limits)
+        _add_blocks(critical, faces, chunk.lines, matrix, modes_of)
     pole_groups = (*names.values(), "all")
     pair_group_names = (*(pair_names.get(g, "") for g in range(len(names) ** 2)), "all")
     return FaceSweep(

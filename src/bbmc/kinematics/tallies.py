@@ -13,8 +13,9 @@ Weights are the readings' weights (Terzaghi's, or 1); a percentage is 100 sum(w 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -142,6 +143,38 @@ def pair_groups(
     return a * size + b, pair_names
 
 
+class ReadingPairs(NamedTuple):
+    """One chunk of a plan's pairs of readings (i, j) that have a line of intersection: the downward
+    lines (m, 3), the pairs' group codes (`pair_groups`), weights w_i w_j and friction angles
+    (`set_pair_friction`) [rad]; and the number of parallel pairs the chunk left out."""
+
+    lines: np.ndarray
+    code: np.ndarray
+    weight: np.ndarray
+    friction: np.ndarray
+    parallel: int
+
+
+def reading_pairs(
+    poles: np.ndarray,
+    plan: PairPlan,
+    code: np.ndarray,
+    names: dict[int, str],
+    weights: np.ndarray,
+    friction: np.ndarray,
+) -> Iterator[ReadingPairs]:
+    """The plan's pairs of readings chunk by chunk (`pair_chunks`), for a face's tallies and for the
+    sweeps alike: readings' `poles` (N, 3), group `code` and `names` (`reading_groups`), `weights` (N,)
+    and `friction` (N,) [rad]."""
+    for i, j in pair_chunks(plan):
+        lines, defined = pair_lines(poles, i, j)
+        i, j = i[defined], j[defined]
+        pair_code, _ = pair_groups(code[i], code[j], names)
+        pair_friction = set_pair_friction(friction[i], friction[j])
+        parallel = int(np.count_nonzero(~defined))
+        yield ReadingPairs(lines[defined], pair_code, weights[i] * weights[j], pair_friction, parallel)
+
+
 def pole_tallies(
     poles: np.ndarray,
     face: Face,
@@ -177,13 +210,9 @@ def pair_tallies(
     friction = np.broadcast_to(np.asarray(friction, dtype=float), (len(poles),))
     code, names = reading_groups(sets, len(poles), set_names)
     groups, parallel = _Groups(len(names) ** 2, LINE_MODES), 0
-    for i, j in pair_chunks(plan):
-        lines, defined = pair_lines(poles, i, j)
-        parallel += int(np.count_nonzero(~defined))
-        i, j, lines = i[defined], j[defined], lines[defined]
-        pair_code, _ = pair_groups(code[i], code[j], names)
-        pair_friction = set_pair_friction(friction[i], friction[j])
-        groups.add(pair_code, weights[i] * weights[j], line_modes(lines, face, pair_friction, limits))
+    for chunk in reading_pairs(poles, plan, code, names, weights, friction):
+        parallel += chunk.parallel
+        groups.add(chunk.code, chunk.weight, line_modes(chunk.lines, face, chunk.friction, limits))
     _, pair_names = pair_groups(code[:0], code[:0], names)
     denominator = f"pairs of readings with a line of intersection ({plan.rule})"
     return groups.rows(pair_names, not plan.exact, denominator), parallel
