@@ -196,8 +196,8 @@ def test_oblique_toppling_zone_3(side):
 def test_base_planes_sliding_and_release():
     """Dips: a base plane's pole in zone 1 (dip between phi and psi_f, out of the face) can slide as
     the blocks topple; in zone 2 (dip below phi) it only releases them."""
-    zone = base_planes(np.vstack([plane(35.0, 90.0), plane(25.0, 90.0), plane(70.0 + EPS, 90.0),
-                                  plane(25.0, 150.0)]), STEEP_FACE, PHI, LIMITS)  # fmt: skip
+    planes = np.vstack([plane(35.0, 90.0), plane(25.0, 90.0), plane(70.0 + EPS, 90.0), plane(25.0, 150.0)])
+    zone = base_planes(planes, STEEP_FACE, PHI, LIMITS)
     assert list(zone.zone_1) == [True, False, False, False]
     assert list(zone.zone_2) == [False, True, False, False]
     assert list(zone.zone_3) == [False, False, False, True]

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from bbmc.geometry.orientation import fisher_sample, line_vectors, poles
+from bbmc.geometry.orientation import fisher_sample, line_vectors, poles, upward
 from bbmc.kinematics.compass import compass_sweep, face_angle_sweep
 from bbmc.kinematics.criteria import flexural_toppling, planar_sliding, wedge_sliding
 from bbmc.kinematics.face import Face, KinematicLimits
@@ -37,10 +37,12 @@ def test_curved_limits_agree_exactly_with_mplstereonet(face_dip, face_direction,
     for curved in (True, False):
         limits = KinematicLimits(planar=r(20.0), flexural_toppling=r(30.0), curved=curved)
         theirs, _ = ka.PlanarSliding(face_direction - 90, face_dip, phi, 20).check_failure(
-            direction - 90, dip, curved_lateral_limits=curved)  # fmt: skip
+            direction - 90, dip, curved_lateral_limits=curved
+        )
         np.testing.assert_array_equal(planar_sliding(normals, face, r(phi), limits), theirs)
         theirs, _ = ka.FlexuralToppling(face_direction - 90, face_dip, phi, 30).check_failure(
-            direction - 90, dip, curved_lateral_limits=curved)  # fmt: skip
+            direction - 90, dip, curved_lateral_limits=curved
+        )
         np.testing.assert_array_equal(flexural_toppling(normals, face, r(phi), limits), theirs)
     plunge, trend = random_planes(20000, 2)
     primary, secondary = ka.WedgeSliding(face_direction - 90, face_dip, phi).check_failure(trend, plunge)
@@ -78,8 +80,8 @@ def test_turning_the_survey_with_the_face_changes_nothing(turn, face_dip, phi):
     vertical by any angle leaves each classification unchanged."""
     dip, direction = random_planes(400, 5)
     before = pole_modes(poles(r(dip), r(direction)), Face(r(face_dip), r(10.0)), r(phi), KinematicLimits())
-    after = pole_modes(poles(r(dip), r(direction + turn)), Face(r(face_dip), r(10.0 + turn)), r(phi),
-                       KinematicLimits())  # fmt: skip
+    turned = Face(r(face_dip), r(10.0 + turn))
+    after = pole_modes(poles(r(dip), r(direction + turn)), turned, r(phi), KinematicLimits())
     for mode in POLE_MODES:
         # away from the limits (0.01 deg), where round-off of the turn cannot move a plane across one
         assert np.mean(before[mode] != after[mode]) <= 0.005
@@ -98,10 +100,9 @@ def survey(count: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     means = poles(r(np.array([60.0, 75.0, 20.0])), r(np.array([140.0, 320.0, 200.0])))
     each = int(0.3 * count)
-    normals = np.vstack([fisher_sample(means[s], k, each, rng) for s, k in enumerate([30.0, 20.0, 50.0])]
-                        + [rng.normal(size=(count - 3 * each, 3))])  # fmt: skip
-    normals /= np.linalg.norm(normals, axis=1)[:, None]
-    normals *= np.where(normals[:, 2:3] < 0, -1.0, 1.0)
+    drawn = [fisher_sample(means[s], k, each, rng) for s, k in enumerate([30.0, 20.0, 50.0])]
+    normals = np.vstack([*drawn, rng.normal(size=(count - 3 * each, 3))])
+    normals = upward(normals / np.linalg.norm(normals, axis=1)[:, None])
     return normals, np.repeat([0, 1, 2, -1], [each, each, each, count - 3 * each]), means
 
 

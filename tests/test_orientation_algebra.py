@@ -28,6 +28,7 @@ from bbmc.geometry.conventions import (
 )
 from bbmc.geometry.orientation import (
     apparent_dip,
+    dip_and_direction,
     fisher_deviation_cdf,
     fisher_sample,
     intersection_lines,
@@ -36,6 +37,7 @@ from bbmc.geometry.orientation import (
     pole_trend_and_plunge,
     poles,
     trend_and_plunge,
+    wrapped_azimuth,
 )
 
 HALF_PI, TWO_PI = np.pi / 2.0, 2.0 * np.pi
@@ -142,6 +144,33 @@ def test_vertical_and_horizontal_cases_by_hand():
     np.testing.assert_allclose(poles(0.0, 2.0), [0.0, 0.0, 1.0], atol=1e-15)  # horizontal plane
     np.testing.assert_allclose(poles(HALF_PI, np.pi), [0.0, -1.0, 0.0], atol=1e-15)  # vertical, E-W
     assert np.degrees(trend_and_plunge(np.array([0.0, 0.0, 1.0]))[1]) == pytest.approx(90.0)
+
+
+@SPHERE
+@given(st.floats(-1e-12, 0.0, exclude_max=True), st.floats(0.1, 1.0), st.floats(0.0, 1.0))
+@example(-1e-20, 1.0, 0.5)  # atan2 = -1e-20: -1e-20 mod 2 pi rounds to exactly 2 pi
+@example(-5e-324, 1.0, 0.0)  # the smallest negative float, a horizontal line
+def test_azimuths_just_west_of_north_lie_in_the_half_open_turn(west, north, height):
+    """A vector a hair west of north has atan2(x, y) a tiny negative angle, whose modulo 2 pi (or 360
+    deg) rounds up to exactly 2 pi (360 deg): trend_and_plunge, plane_of_pole, dip_and_direction and
+    pole_trend_and_plunge all give 0 there, and every azimuth lies in [0, 2 pi) or [0, 360)."""
+    trend, _ = trend_and_plunge(np.array([west, north, -height]))
+    assert 0.0 <= trend < TWO_PI
+    _, direction = plane_of_pole(np.array([[west, north, height]]))
+    assert 0.0 <= direction[0] < 360.0
+    assert 0.0 <= dip_and_direction(np.array([west, north, height]))[1] < TWO_PI
+    assert 0.0 <= pole_trend_and_plunge(0.5, west - np.pi)[0] < TWO_PI
+
+
+def test_wrapped_azimuth_by_hand():
+    """Exact values: a tiny negative angle is 0, not the full turn; a turn and a bit is the bit."""
+    assert wrapped_azimuth(-1e-20) == 0.0
+    assert wrapped_azimuth(-1e-20, 360.0) == 0.0
+    assert wrapped_azimuth(TWO_PI) == 0.0
+    assert wrapped_azimuth(-HALF_PI) == pytest.approx(3.0 * HALF_PI, abs=1e-15)
+    np.testing.assert_array_equal(
+        wrapped_azimuth(np.array([370.0, -10.0, -1e-14]), 360.0), [10.0, 350.0, 0.0]
+    )
 
 
 def test_declination_is_added_east_positive_modulo_360():

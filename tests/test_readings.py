@@ -60,8 +60,8 @@ def test_core_readings_with_the_hole_given_once(tmp_path):
     hole = SamplingLine(np.radians(180.0), np.radians(60.0))
     readings = read_readings(path, sampling=hole)
     np.testing.assert_allclose(_planes(readings), [[41.4096, 49.1066]], atol=1e-4)
-    top = read_readings(_write(tmp_path, "alpha_deg,beta_deg\n60,270\n", "top.csv"), sampling=hole,
-                        core_reference="top")  # fmt: skip
+    top_path = _write(tmp_path, "alpha_deg,beta_deg\n60,270\n", "top.csv")
+    top = read_readings(top_path, sampling=hole, core_reference="top")
     np.testing.assert_allclose(top.poles, readings.poles, atol=1e-12)
     assert readings.terzaghi[0] == pytest.approx(
         1.0 / np.sin(np.radians(60.0)), abs=1e-9

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from matplotlib.figure import Figure
 from matplotlib.text import Text
 
-from bbmc.geometry.orientation import fisher_sample, line_vectors, poles, upward_pole
+from bbmc.geometry.orientation import downward, fisher_sample, line_vectors, poles, upward, upward_pole
 from bbmc.outputs.stereonet import (
     COUNT_CONE,
     daylight_envelope,
@@ -199,7 +199,7 @@ def test_zone_fill_agrees_with_its_mask(net, trend, plunge):
     rng = np.random.default_rng(5)
     points = rng.normal(size=(4000, 3))
     points /= np.linalg.norm(points, axis=1, keepdims=True)
-    points = np.where(points[:, 2:3] > 0, -points, points)
+    points = downward(points)
     display = ax.transData.transform(np.column_stack(net_coordinates(points)))
     inside = np.zeros(len(points), dtype=bool)
     for path in filled.get_paths():
@@ -224,8 +224,7 @@ def survey():
     normals = [fisher_sample(upward_pole(d, dd), k, n, rng) for d, dd, k, n in sets]
     normals.append(rng.normal(size=(20, 3)))
     normals = np.vstack(normals)
-    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-    normals *= np.where(normals[:, 2:3] < 0, -1.0, 1.0)
+    normals = upward(normals / np.linalg.norm(normals, axis=1, keepdims=True))
     labels = np.repeat([0, 1, 2, -1], [50, 40, 30, 20])
     weights = np.minimum(1.0 / np.abs(normals @ upward_pole(60.0, 180.0)), 3.86)
     return PoleSurvey(normals, labels, weights, 3.86)

@@ -368,11 +368,9 @@ def read_readings(
     terzaghi[kind == 2] = face_weights(normals[kind == 2], axes[kind == 2], max_weight)
     own = table["weight"].fillna(1.0).to_numpy() if "weight" in table.columns else np.ones(len(table))
 
-    blank = pd.DataFrame(
-        {"type": "", "location": "", "set": "", "trace_length_m": np.nan, "position_m": np.nan,
-         "censored_ends": np.nan},
-        index=table.index,
-    )  # fmt: skip
+    blanks = {"type": "", "location": "", "set": ""}
+    blanks |= dict.fromkeys(("trace_length_m", "position_m", "censored_ends"), np.nan)
+    blank = pd.DataFrame(blanks, index=table.index)
     table = table.combine_first(blank)
     hidden = table["censored_ends"]
     broken = hidden.notna() & (hidden % 1 != 0)

@@ -23,28 +23,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from bbmc.geometry.orientation import line_vectors
-
-TWO_PI = 2.0 * np.pi
+from bbmc.geometry.orientation import line_vectors, poles, upward, wrapped_azimuth
 
 # The angle [rad] from the top-of-core line to the core's reference line, clockwise looking down the hole.
 CORE_REFERENCES = {"top": 0.0, "bottom": np.pi}
 
 
-def _azimuth(angle: np.ndarray) -> np.ndarray:
-    """`angle` [rad] as an azimuth, 0 <= a < 2 pi (a % 2 pi rounds a tiny negative angle up to 2 pi)."""
-    wrapped = np.mod(angle, TWO_PI)
-    return np.where(wrapped >= TWO_PI, 0.0, wrapped)
-
-
 def dip_direction_of_strike(strike: np.ndarray) -> np.ndarray:
     """Dip direction [rad] of planes of right-hand-rule `strike` [rad]: strike + pi/2 (mod 2 pi)."""
-    return _azimuth(np.asarray(strike, dtype=float) + np.pi / 2.0)
+    return wrapped_azimuth(np.asarray(strike, dtype=float) + np.pi / 2.0)
 
 
 def strike_of_dip_direction(dip_direction: np.ndarray) -> np.ndarray:
     """Right-hand-rule strike [rad] of planes of `dip_direction` [rad]: dip direction - pi/2 (mod 2 pi)."""
-    return _azimuth(np.asarray(dip_direction, dtype=float) - np.pi / 2.0)
+    return wrapped_azimuth(np.asarray(dip_direction, dtype=float) - np.pi / 2.0)
 
 
 def plane_of_pole_trend_and_plunge(trend: np.ndarray, plunge: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -52,22 +44,23 @@ def plane_of_pole_trend_and_plunge(trend: np.ndarray, plunge: np.ndarray) -> tup
     dip = pi/2 - plunge, dip direction = trend - pi (mod 2 pi). A vertical pole (a horizontal plane)
     gives the dip direction trend - pi, which a horizontal plane does not need."""
     trend, plunge = np.asarray(trend, dtype=float), np.asarray(plunge, dtype=float)
-    return np.pi / 2.0 - plunge, _azimuth(trend + np.pi)
+    return np.pi / 2.0 - plunge, wrapped_azimuth(trend + np.pi)
 
 
 def true_azimuth(magnetic: np.ndarray, declination: float) -> np.ndarray:
     """True azimuths [rad] of azimuths read on a magnetic compass, `declination` [rad] east positive:
     magnetic + declination (mod 2 pi)."""
-    return _azimuth(np.asarray(magnetic, dtype=float) + declination)
+    return wrapped_azimuth(np.asarray(magnetic, dtype=float) + declination)
 
 
 def top_of_core(hole_trend: np.ndarray, hole_plunge: np.ndarray) -> np.ndarray:
     """Unit vectors (..., 3) of the top-of-core line of holes of `hole_trend` and `hole_plunge` [rad]
     (plunge > 0 drilled downward, < 0 upward): the upward direction normal to the hole in its vertical
-    plane, t = (sin p sin t, sin p cos t, cos p). A vertical hole has no top; the formula's value there,
-    the horizontal line of azimuth `hole_trend`, is what an inclined hole of that trend tends to."""
-    trend, plunge = np.asarray(hole_trend, dtype=float), np.asarray(hole_plunge, dtype=float)
-    return np.stack([np.sin(plunge) * np.sin(trend), np.sin(plunge) * np.cos(trend), np.cos(plunge)], axis=-1)
+    plane, t = (sin p sin t, sin p cos t, cos p): the upward normal of the plane that holds the hole and
+    dips p towards its trend (`poles(p, t)`; p < 0: away from it). A vertical hole has no top; the
+    formula's value there, the horizontal line of azimuth `hole_trend`, is what an inclined hole of that
+    trend tends to."""
+    return poles(hole_plunge, hole_trend)
 
 
 def core_poles(
@@ -93,4 +86,4 @@ def core_poles(
     apex = np.cos(beta) * line + np.sin(beta) * np.cross(h, line)
     alpha = np.asarray(alpha, dtype=float)[..., None]
     normal = np.sin(alpha) * h - np.cos(alpha) * apex
-    return np.where(normal[..., 2:3] < 0.0, -normal, normal)
+    return upward(normal)

@@ -31,26 +31,55 @@ from scipy import stats
 from bbmc.geometry.polygons import joint_set_trace
 
 
-def poles(dip: np.ndarray, dip_direction: np.ndarray) -> np.ndarray:
-    """Upward unit normals (N x 3) of planes of `dip` and `dip_direction` [rad]."""
+def pole_components(
+    dip: float | np.ndarray, dip_direction: float | np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The components (x, y, z) of the upward unit normals of planes of `dip` and `dip_direction` [rad],
+    n = (sin psi sin alpha, sin psi cos alpha, cos psi), each of its own broadcast shape (n_z has the
+    shape of `dip`): the form for tests of many faces against many planes, where stacking (`poles`)
+    would first broadcast every sine to the full (F, N)."""
     dip, dip_direction = np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
-    return np.stack(
-        [np.sin(dip) * np.sin(dip_direction), np.sin(dip) * np.cos(dip_direction), np.cos(dip)], axis=-1
-    )
+    return np.sin(dip) * np.sin(dip_direction), np.sin(dip) * np.cos(dip_direction), np.cos(dip)
+
+
+def poles(dip: np.ndarray, dip_direction: np.ndarray) -> np.ndarray:
+    """Upward unit normals (..., 3) of planes of `dip` and `dip_direction` [rad] (broadcast together):
+    n = (sin psi sin alpha, sin psi cos alpha, cos psi) (`pole_components`)."""
+    return np.stack(np.broadcast_arrays(*pole_components(dip, dip_direction)), axis=-1)
+
+
+def upward(normals: np.ndarray) -> np.ndarray:
+    """Unit normals (..., 3) of planes turned to their upward sense, n_z >= 0 (a plane's pole is an axis;
+    bbmc's poles are upward). A horizontal normal (n_z = 0) keeps the sense it was given in."""
+    normals = np.asarray(normals, dtype=float)
+    return np.where(normals[..., 2:3] < 0.0, -normals, normals)
+
+
+def downward(lines: np.ndarray) -> np.ndarray:
+    """Unit vectors (..., 3) of lines turned to their downward sense, l_z <= 0 (the lower hemisphere; a
+    plunge is downward positive). A horizontal line (l_z = 0) keeps the sense it was given in."""
+    lines = np.asarray(lines, dtype=float)
+    return np.where(lines[..., 2:3] > 0.0, -lines, lines)
+
+
+def wrapped_azimuth(angle: float | np.ndarray, full_turn: float = 2.0 * np.pi) -> np.ndarray:
+    """`angle` as an azimuth in [0, `full_turn`) (2 pi [rad], or 360 [deg]): angle mod full_turn, where
+    the modulo of a tiny negative angle, which rounds up to exactly `full_turn`, is taken as 0."""
+    wrapped = np.mod(angle, full_turn)
+    return wrapped - full_turn * (wrapped >= full_turn)
 
 
 def line_direction(trend: float, plunge: float) -> np.ndarray:
-    """Unit vector of a line of `trend` and `plunge` (downward positive) [rad]."""
-    return np.array([np.cos(plunge) * np.sin(trend), np.cos(plunge) * np.cos(trend), -np.sin(plunge)])
+    """Unit vector (3,) of a line of `trend` and `plunge` (downward positive) [rad] (`line_vectors`)."""
+    return line_vectors(trend, plunge)
 
 
 def dip_and_direction(pole: np.ndarray) -> tuple[float, float]:
-    """Dip and dip direction [rad] of the plane with normal `pole` (either sense)."""
-    pole = pole / np.linalg.norm(pole)
-    if pole[2] < 0:
-        pole = -pole
+    """Dip and dip direction [rad] of the plane with normal `pole` (either sense): with n the upward unit
+    normal, dip = acos(n_z), dip direction = atan2(n_x, n_y) (mod 2 pi)."""
+    pole = upward(pole / np.linalg.norm(pole))
     dip = float(np.arccos(np.clip(pole[2], -1.0, 1.0)))
-    return dip, float(np.arctan2(pole[0], pole[1]) % (2.0 * np.pi))
+    return dip, float(wrapped_azimuth(np.arctan2(pole[0], pole[1])))
 
 
 # Rocscience Dips' default cap on the weights: its "minimum bias angle" of 15 deg, w <= 1 / sin 15 deg.
@@ -95,7 +124,9 @@ def _normalised(weights: np.ndarray) -> np.ndarray:
 
 
 def fisher_orientation(normals: np.ndarray, weights: np.ndarray) -> SetOrientation:
-    """The weighted mean pole and Fisher's K = (N - 1) / (N - R) of poles taken as axes."""
+    """The weighted mean pole and Fisher's K = (N - 1) / (N - R) of poles taken as axes (Fisher 1953; the
+    estimator Rocscience Dips uses): N the number of poles, the `weights` scaled to sum to N, R the length
+    of the weighted resultant of the poles turned to the side of the principal axis. Angles [rad]."""
     w = _normalised(weights)
     _, vectors = np.linalg.eigh((normals * w[:, None]).T @ normals)
     axis = vectors[:, -1]
@@ -106,7 +137,7 @@ def fisher_orientation(normals: np.ndarray, weights: np.ndarray) -> SetOrientati
     count = normals.shape[0]
     kappa = (count - 1) / (count - length) if count - length > 1e-12 * count else np.inf
     dip, direction = dip_and_direction(mean)
-    mean = mean if mean[2] >= 0 else -mean
+    mean = upward(mean)
     aligned = np.where((aligned @ mean)[:, None] < 0, -aligned, aligned)
     deviation = np.arccos(np.clip(aligned @ mean, -1.0, 1.0))
     dips = np.arccos(np.clip(np.abs(aligned[:, 2]), 0.0, 1.0))
@@ -127,20 +158,22 @@ def dip_orientation(dips: np.ndarray, dip_direction: float, weights: np.ndarray)
 
 
 def fisher_log_likelihood(deviation: np.ndarray, kappa: float) -> float:
-    """Log-likelihood of Fisher's density kappa / (4 pi sinh kappa) exp(kappa cos theta) [1/sr] at the
-    angles `deviation` from the mean pole."""
+    """Log-likelihood of Fisher's density kappa / (4 pi sinh kappa) exp(kappa cos theta) [1/sr] (Fisher
+    1953) at the angles `deviation` [rad] from the mean pole."""
     log_norm = np.log(kappa / (2.0 * np.pi)) - kappa - np.log1p(-np.exp(-2.0 * kappa))
     return float(np.sum(log_norm + kappa * np.cos(deviation)))
 
 
 def fisher_deviation_cdf(theta: np.ndarray, kappa: float) -> np.ndarray:
-    """P(angle from the mean pole <= theta) under Fisher's distribution:
+    """P(angle from the mean pole <= theta [rad]) under Fisher's distribution (Fisher 1953):
     (1 - exp(-kappa (1 - cos theta))) / (1 - exp(-2 kappa))."""
     return -np.expm1(-kappa * (1.0 - np.cos(theta))) / -np.expm1(-2.0 * kappa)
 
 
 def fisher_deviation_pdf(theta: np.ndarray, kappa: float) -> np.ndarray:
-    """Density of the angle theta [1/rad] from the mean pole under Fisher's distribution."""
+    """Density [1/rad] of the angle theta [rad] from the mean pole under Fisher's distribution (Fisher
+    1953), the derivative of `fisher_deviation_cdf`: kappa sin theta exp(-kappa (1 - cos theta)) /
+    (1 - exp(-2 kappa))."""
     return kappa * np.sin(theta) * np.exp(-kappa * (1.0 - np.cos(theta))) / -np.expm1(-2.0 * kappa)
 
 
@@ -160,12 +193,12 @@ def section_trace(normal: np.ndarray, section_azimuth: float) -> SectionTrace:
     normal's projection on the section, m, gives tan(apparent dip) = |m_h| / m_z and the traces'
     spacing s / |m| for a true spacing s."""
     along = np.array([np.sin(section_azimuth), np.cos(section_azimuth), 0.0])
-    normal = normal if normal[2] >= 0 else -normal
+    normal = upward(normal)
     horizontal, vertical = float(normal @ along), float(normal[2])
     factor = float(np.hypot(horizontal, vertical))
     if factor < 1e-9:
         return SectionTrace(np.nan, np.nan, 0.0)
-    towards = section_azimuth if horizontal >= 0 else (section_azimuth + np.pi) % (2.0 * np.pi)
+    towards = section_azimuth if horizontal >= 0 else wrapped_azimuth(section_azimuth + np.pi)
     return SectionTrace(float(np.arctan2(abs(horizontal), vertical)), float(towards), factor)
 
 
@@ -220,21 +253,22 @@ def section_traces(dip_deg: np.ndarray, dip_direction_to_face_deg: np.ndarray) -
         [joint_set_trace(d, b) for d, b in zip(dip_deg, dip_direction_to_face_deg, strict=True)]
     ).reshape(-1, 3)
     normal = rows[:, :2].reshape(-1, 2) * np.where(rows[:, 1:2] < 0, -1.0, 1.0)
-    return SectionTraces(np.asarray(dip_deg, float), np.asarray(dip_direction_to_face_deg, float), normal,
-                         rows[:, 2])  # fmt: skip
+    dips, directions = np.asarray(dip_deg, float), np.asarray(dip_direction_to_face_deg, float)
+    return SectionTraces(dips, directions, normal, rows[:, 2])
 
 
 def upward_pole(dip_deg: float, dip_direction_deg: float) -> np.ndarray:
-    """The upward unit normal (east, north, up) of a plane of this dip and dip direction (azimuth)."""
-    dip, azimuth = np.radians(dip_deg), np.radians(dip_direction_deg)
-    return np.array([np.sin(azimuth) * np.sin(dip), np.cos(azimuth) * np.sin(dip), np.cos(dip)])
+    """The upward unit normal (east, north, up) (3,) of a plane of this dip and dip direction (azimuth)
+    [deg]: `poles` at the file's degrees."""
+    return poles(np.radians(dip_deg), np.radians(dip_direction_deg))
 
 
 def plane_of_pole(pole: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Dip and dip direction [deg] of planes with these unit normals (n, 3) (either sense)."""
-    upward = pole * np.where(pole[:, 2:3] < 0, -1.0, 1.0)
-    dip = np.degrees(np.arccos(np.clip(upward[:, 2], -1.0, 1.0)))
-    return dip, np.degrees(np.arctan2(upward[:, 0], upward[:, 1])) % 360.0
+    """Dip and dip direction [deg] of planes with these unit normals (n, 3) (either sense): with n the
+    upward normal, dip = acos(n_z), dip direction = atan2(n_x, n_y) in [0, 360)."""
+    up = upward(pole)
+    dip = np.degrees(np.arccos(np.clip(up[:, 2], -1.0, 1.0)))
+    return dip, wrapped_azimuth(np.degrees(np.arctan2(up[:, 0], up[:, 1])), 360.0)
 
 
 def line_vectors(trend: np.ndarray, plunge: np.ndarray) -> np.ndarray:
@@ -247,21 +281,21 @@ def line_vectors(trend: np.ndarray, plunge: np.ndarray) -> np.ndarray:
 
 
 def trend_and_plunge(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Trend (0 to 2 pi) and plunge (0 to pi/2) [rad] of lines along `vectors` (..., 3), either sense:
+    """Trend in [0, 2 pi) and plunge (0 to pi/2) [rad] of lines along `vectors` (..., 3), either sense:
     an upward vector is turned down first (the lower hemisphere). A horizontal line keeps the trend of
     the sense it was given in."""
     v = np.asarray(vectors, dtype=float)
     v = v / np.linalg.norm(v, axis=-1, keepdims=True)
-    v = np.where(v[..., 2:3] > 0, -v, v)
+    v = downward(v)
     plunge = np.arcsin(np.clip(-v[..., 2], 0.0, 1.0))
-    return np.arctan2(v[..., 0], v[..., 1]) % (2.0 * np.pi), plunge
+    return wrapped_azimuth(np.arctan2(v[..., 0], v[..., 1])), plunge
 
 
 def pole_trend_and_plunge(dip: np.ndarray, dip_direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The lower-hemisphere pole of planes of `dip` and `dip_direction` [rad]: trend = dip direction +
     pi, plunge = pi/2 - dip."""
     dip, dip_direction = np.asarray(dip, dtype=float), np.asarray(dip_direction, dtype=float)
-    return (dip_direction + np.pi) % (2.0 * np.pi), np.pi / 2.0 - dip
+    return wrapped_azimuth(dip_direction + np.pi), np.pi / 2.0 - dip
 
 
 def intersection_lines(normals_1: np.ndarray, normals_2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -273,7 +307,7 @@ def intersection_lines(normals_1: np.ndarray, normals_2: np.ndarray) -> tuple[np
     sine = np.linalg.norm(cross, axis=-1)
     with np.errstate(invalid="ignore", divide="ignore"):
         lines = np.where(sine[..., None] > 1e-9, cross / sine[..., None], np.nan)
-    return np.where(lines[..., 2:3] > 0, -lines, lines), sine
+    return downward(lines), sine
 
 
 def apparent_dip(dip: np.ndarray, dip_direction: np.ndarray, trend: np.ndarray) -> np.ndarray:
@@ -307,5 +341,5 @@ def fisher_sample(mean: np.ndarray, kappa: float, count: int, rng: np.random.Gen
     e1 = np.cross(mean, helper)
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(mean, e1)
-    return (cos_theta[:, None] * mean + (sin_theta * np.cos(azimuth))[:, None] * e1
-            + (sin_theta * np.sin(azimuth))[:, None] * e2)  # fmt: skip
+    in_plane = cos_theta[:, None] * mean + (sin_theta * np.cos(azimuth))[:, None] * e1
+    return in_plane + (sin_theta * np.sin(azimuth))[:, None] * e2

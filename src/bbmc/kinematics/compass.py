@@ -11,17 +11,21 @@ single face's tallies, so the sweep at a face and the tally of that face are one
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
+from typing import Any
 
 import numpy as np
 
-from bbmc.kinematics.criteria import set_pair_friction
 from bbmc.kinematics.face import Face, KinematicLimits
-from bbmc.kinematics.intersections import PairPlan, pair_chunks, pair_lines, pair_plan
+from bbmc.kinematics.intersections import PairPlan, pair_plan
 from bbmc.kinematics.modes import LINE_MODES, POLE_MODES, line_modes, pole_modes
-from bbmc.kinematics.tallies import pair_groups, percentage, reading_groups
+from bbmc.kinematics.tallies import pair_groups, percentage, reading_groups, reading_pairs
 
 BLOCK_ELEMENTS = 1 << 22
+
+ModesOf = Callable[[np.ndarray, Face], dict[str, np.ndarray]]  # the critical masks of items at faces
 
 
 @dataclass(frozen=True)
@@ -55,10 +59,16 @@ class FaceSweep:
                     continue
                 percent, error = self.percent(mode, group)
                 for f in range(self.dip.size):
-                    out.append({"face_dip_deg": float(np.degrees(self.dip[f])),
-                                "face_dip_direction_deg": float(np.degrees(self.dip_direction[f])),
-                                "mode": mode, "group": group, "percent": float(percent[f]),
-                                "standard_error_percent": float(error[f])})  # fmt: skip
+                    out.append(
+                        {
+                            "face_dip_deg": float(np.degrees(self.dip[f])),
+                            "face_dip_direction_deg": float(np.degrees(self.dip_direction[f])),
+                            "mode": mode,
+                            "group": group,
+                            "percent": float(percent[f]),
+                            "standard_error_percent": float(error[f]),
+                        }
+                    )
         return out
 
 
@@ -70,7 +80,9 @@ def _group_matrix(code: np.ndarray, weight: np.ndarray, size: int) -> np.ndarray
     return matrix
 
 
-def _add_blocks(sums: dict, faces: Face, items: np.ndarray, matrix: np.ndarray, modes_of) -> None:
+def _add_blocks(
+    sums: dict[str, np.ndarray], faces: Face, items: np.ndarray, matrix: np.ndarray, modes_of: ModesOf
+) -> None:
     """Add to `sums[mode]` (F, G) the weighted critical counts of `items`, faces block by block."""
     dips, directions = faces.dip.ravel(), faces.dip_direction.ravel()
     block = max(1, BLOCK_ELEMENTS // max(1, len(items)))
@@ -81,8 +93,16 @@ def _add_blocks(sums: dict, faces: Face, items: np.ndarray, matrix: np.ndarray, 
             sums[mode][start:stop] += np.broadcast_to(mask, (stop - start, len(items))).astype(float) @ matrix
 
 
-def sweep_faces(poles, faces: Face, friction, limits: KinematicLimits | None = None, sets=None, weights=None,
-                set_names=None, plan: PairPlan | None = None) -> FaceSweep:  # fmt: skip
+def sweep_faces(
+    poles: np.ndarray,
+    faces: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits | None = None,
+    sets: np.ndarray | None = None,
+    weights: np.ndarray | None = None,
+    set_names: Sequence[str] | None = None,
+    plan: PairPlan | None = None,
+) -> FaceSweep:
     """Every mode's critical weight for each of `faces` (built with `Face.many`), readings and pairs
     as `tallies.kinematic_tally`."""
     limits = KinematicLimits() if limits is None else limits
@@ -96,34 +116,47 @@ def sweep_faces(poles, faces: Face, friction, limits: KinematicLimits | None = N
     critical = {m: np.zeros((count, len(names) + 1)) for m in POLE_MODES}
     critical |= {m: np.zeros((count, len(names) ** 2 + 1)) for m in LINE_MODES}
     pole_matrix = _group_matrix(code, weights, len(names))
-    _add_blocks(critical, faces, poles, pole_matrix, lambda p, f: pole_modes(p, f, friction, limits))
+    _add_blocks(critical, faces, poles, pole_matrix, partial(pole_modes, friction=friction, limits=limits))
     pair_weight, pair_weight_sq = np.zeros(len(names) ** 2 + 1), np.zeros(len(names) ** 2 + 1)
-    for i, j in pair_chunks(plan):
-        lines, defined = pair_lines(poles, i, j)
-        i, j, lines = i[defined], j[defined], lines[defined]
-        pair_code, _ = pair_groups(code[i], code[j], names)
-        matrix = _group_matrix(pair_code, weights[i] * weights[j], len(names) ** 2)
+    for chunk in reading_pairs(poles, plan, code, names, weights, friction):
+        matrix = _group_matrix(chunk.code, chunk.weight, len(names) ** 2)
         pair_weight += matrix.sum(axis=0)
         pair_weight_sq += (matrix**2).sum(axis=0)
-        pair_friction = set_pair_friction(friction[i], friction[j])
-        _add_blocks(critical, faces, lines, matrix,
-                    lambda q, f, phi=pair_friction: line_modes(q, f, phi, limits))  # fmt: skip
+        modes_of = partial(line_modes, friction=chunk.friction, limits=limits)
+        _add_blocks(critical, faces, chunk.lines, matrix, modes_of)
     pole_groups = (*names.values(), "all")
     pair_group_names = (*(pair_names.get(g, "") for g in range(len(names) ** 2)), "all")
-    return FaceSweep(faces.dip.ravel(), faces.dip_direction.ravel(),
-                     {"poles": pole_groups, "pairs": pair_group_names}, critical,
-                     {"poles": pole_matrix.sum(axis=0), "pairs": pair_weight},
-                     {"poles": (pole_matrix**2).sum(axis=0), "pairs": pair_weight_sq}, plan)  # fmt: skip
+    return FaceSweep(
+        dip=faces.dip.ravel(),
+        dip_direction=faces.dip_direction.ravel(),
+        groups={"poles": pole_groups, "pairs": pair_group_names},
+        critical=critical,
+        weight={"poles": pole_matrix.sum(axis=0), "pairs": pair_weight},
+        weight_sq={"poles": (pole_matrix**2).sum(axis=0), "pairs": pair_weight_sq},
+        plan=plan,
+    )
 
 
-def compass_sweep(poles, face_dip: float, friction, step: float = np.radians(1.0), **options) -> FaceSweep:
+def compass_sweep(
+    poles: np.ndarray,
+    face_dip: float,
+    friction: float | np.ndarray,
+    step: float = np.radians(1.0),
+    **options: Any,
+) -> FaceSweep:
     """The tallies for faces of dip `face_dip` [rad] dipping towards every direction 0, step, ...
     below 2 pi [rad] (default 1 deg: 360 faces). `options` as `sweep_faces`."""
     directions = np.arange(0.0, 2.0 * np.pi - 1e-12, step)
     return sweep_faces(poles, Face.many(np.full(directions.size, face_dip), directions), friction, **options)
 
 
-def face_angle_sweep(poles, face_dip_direction: float, dips: np.ndarray, friction, **options) -> FaceSweep:
+def face_angle_sweep(
+    poles: np.ndarray,
+    face_dip_direction: float,
+    dips: np.ndarray,
+    friction: float | np.ndarray,
+    **options: Any,
+) -> FaceSweep:
     """The tallies for a wall of dip direction `face_dip_direction` [rad] at each face dip of `dips`
     [rad]. `options` as `sweep_faces`."""
     dips = np.asarray(dips, dtype=float)

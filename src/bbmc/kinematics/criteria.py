@@ -18,6 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bbmc.geometry.orientation import downward, upward
 from bbmc.kinematics.face import (
     ROUND_OFF,
     Face,
@@ -29,17 +30,9 @@ from bbmc.kinematics.face import (
 )
 
 
-def _upward(poles: np.ndarray) -> np.ndarray:
-    poles = np.asarray(poles, dtype=float)
-    return np.where(poles[..., 2:3] < 0.0, -poles, poles)
-
-
-def _downward(lines: np.ndarray) -> np.ndarray:
-    lines = np.asarray(lines, dtype=float)
-    return np.where(lines[..., 2:3] > 0.0, -lines, lines)
-
-
-def planar_sliding(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> np.ndarray:
+def planar_sliding(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> np.ndarray:
     """Planar sliding (Dips "Planar Sliding"; Hudson & Harrison 1997, sec. 18.3): the pole inside the
     daylight envelope, outside the friction cone, within the lateral limits.
 
@@ -49,7 +42,7 @@ def planar_sliding(poles: np.ndarray, face: Face, friction, limits: KinematicLim
       circle, so the pole-envelope and dip-vector forms are one test);
     * friction: delta > phi (the pole farther than phi from the centre of the net);
     * lateral: alpha within +/-`limits.planar` of alpha_f."""
-    p = _upward(poles)
+    p = upward(poles)
     px, py, pz = components(p)
     # the dip vector scaled by sin(delta): (p_h p_z, -|p_h|^2), the same sense and daylight test
     horizontal_sq = px * px + py * py
@@ -67,7 +60,7 @@ class WedgeZones(NamedTuple):
     secondary: np.ndarray
 
 
-def wedge_sliding(lines: np.ndarray, face: Face, friction) -> WedgeZones:
+def wedge_sliding(lines: np.ndarray, face: Face, friction: float | np.ndarray) -> WedgeZones:
     """Wedge sliding (Dips "Wedge Sliding"; Hudson & Harrison 1997, sec. 18.4): lines of intersection
     of plunge p and trend t.
 
@@ -78,14 +71,16 @@ def wedge_sliding(lines: np.ndarray, face: Face, friction) -> WedgeZones:
       cone, the face's great circle and that "friction plane", where the wedge can slide on one of
       its planes rather than along the line (as mplstereonet's WedgeSliding, after Dips).
     No lateral limits (Dips has none for wedges)."""
-    x, y, z = turned_towards(_downward(lines), face.dip_direction)
+    x, y, z = turned_towards(downward(lines), face.dip_direction)
     daylight = daylights(x, y, z, face.dip, face.dip_direction)
     steeper = -z > np.sin(friction)
     below_friction_plane = ~daylights(x, y, z, friction, face.dip_direction)
     return WedgeZones(daylight & steeper, daylight & ~steeper & below_friction_plane)
 
 
-def flexural_toppling(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> np.ndarray:
+def flexural_toppling(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> np.ndarray:
     """Flexural toppling (Goodman 1980, sec. 8.4; Dips "Flexural Toppling"): the pole outside the
     slip-limit plane and within the lateral limits.
 
@@ -96,7 +91,7 @@ def flexural_toppling(poles: np.ndarray, face: Face, friction, limits: Kinematic
     circle is stricter than the issue's form with the true dip (see the reference page). No zone
     where psi_f <= phi. Lateral: the pole's trend within +/-`limits.flexural_toppling` of alpha_f
     (the plane dipping into the face within the limits of alpha_f + pi)."""
-    x, y, z = turned_towards(-_upward(poles), face.dip_direction)
+    x, y, z = turned_towards(-upward(poles), face.dip_direction)
     slip_dip = np.asarray(face.dip) - np.asarray(friction)
     outside = daylights(x, y, z, slip_dip, face.dip_direction) & (slip_dip > 0.0)
     lateral = within_lateral_limits(x, y, z, face.dip_direction, limits.flexural_toppling, limits.curved)
@@ -113,7 +108,12 @@ class DirectTopplingZones(NamedTuple):
 
 
 def direct_toppling_zones(
-    x: np.ndarray, y: np.ndarray, z: np.ndarray, face: Face, friction, limits: KinematicLimits
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    face: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits,
 ) -> DirectTopplingZones:
     """The zones of Dips' "Direct Toppling" page (after Hudson & Harrison 1997, sec. 18.5) of
     downward unit vectors (x, y, z) of plunge p and trend t, with alpha_i = alpha_f + pi, the
@@ -136,25 +136,29 @@ def direct_toppling_zones(
     return DirectTopplingZones(primary & ~in_cone, primary & in_cone, ~lateral & in_cone & into_slope)
 
 
-def direct_toppling(lines: np.ndarray, face: Face, friction, limits: KinematicLimits) -> DirectTopplingZones:
+def direct_toppling(
+    lines: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> DirectTopplingZones:
     """Direct toppling of the lines of intersection `lines` (Dips "Critical Intersections"): zones 1
     and 2 are the intersections that can cut toppling blocks, zone 3 oblique toppling."""
     into = np.asarray(face.dip_direction) + np.pi
-    x, y, z = turned_towards(_downward(lines), into)
+    x, y, z = turned_towards(downward(lines), into)
     return direct_toppling_zones(x, y, z, face, friction, limits)
 
 
-def base_planes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> DirectTopplingZones:
+def base_planes(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> DirectTopplingZones:
     """The base planes of direct toppling (Dips "Critical Base Planes"): the lower-hemisphere poles
     in the same zones. Zone 1: a base plane dipping out of the face more steeply than phi and less
     than psi_f (the blocks can slide on it as they topple); zones 2 and 3: flatter than phi (release
     without sliding; zone 3 oblique)."""
     into = np.asarray(face.dip_direction) + np.pi
-    x, y, z = turned_towards(-_upward(poles), into)
+    x, y, z = turned_towards(-upward(poles), into)
     return direct_toppling_zones(x, y, z, face, friction, limits)
 
 
-def set_pair_friction(friction_1, friction_2) -> np.ndarray:
+def set_pair_friction(friction_1: float | np.ndarray, friction_2: float | np.ndarray) -> np.ndarray:
     """The friction angle of a wedge or a block edge cut by two planes: the smaller of the two
     planes' angles (the conservative choice; Dips takes one angle for all intersections)."""
     return np.minimum(friction_1, friction_2)

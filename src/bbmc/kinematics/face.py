@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bbmc.geometry.orientation import pole_components
+
 # Boundaries that hold with equality (the lateral limits, the direct-toppling circles) are taken
 # inclusive to within this round-off, so readings recorded in whole degrees that sit exactly on a
 # limit count as inside it, whatever the rounding of the sines and cosines.
@@ -54,11 +56,6 @@ class KinematicLimits:
     curved: bool = False
 
 
-def upward_normal(dip: float | np.ndarray, dip_direction: float | np.ndarray) -> tuple[np.ndarray, ...]:
-    """Components (x, y, z) of the upward unit normal of planes of `dip` and `dip_direction` [rad]."""
-    return (np.sin(dip) * np.sin(dip_direction), np.sin(dip) * np.cos(dip_direction), np.cos(dip))
-
-
 def components(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The x, y and z components (N,) of unit vectors (N, 3)."""
     vectors = np.asarray(vectors, dtype=float)
@@ -78,17 +75,21 @@ def turned_towards(vectors: np.ndarray, azimuth: float | np.ndarray) -> tuple[np
     return x * sign, y * sign, z  # z of a flat vector is below round-off: its sign is immaterial
 
 
-def daylights(x: np.ndarray, y: np.ndarray, z: np.ndarray, dip, dip_direction) -> np.ndarray:
+def daylights(
+    x: np.ndarray, y: np.ndarray, z: np.ndarray, dip: float | np.ndarray, dip_direction: float | np.ndarray
+) -> np.ndarray:
     """True where the downward direction (x, y, z) points out of the plane (`dip`, `dip_direction`)
     into the air above it: v . n > 0, n the plane's upward normal. For a line of plunge p and trend t
     this is tan p < tan(dip) cos(t - dip direction), the line plunging less steeply than the plane's
     apparent dip along its trend (Priest 1993, eq. 2.6; Hudson & Harrison 1997, ch. 18): inside the
     great circle of the plane on a lower-hemisphere net (strict)."""
-    nx, ny, nz = upward_normal(dip, dip_direction)
+    nx, ny, nz = pole_components(dip, dip_direction)
     return x * nx + y * ny + z * nz > ROUND_OFF
 
 
-def within_lateral_limits(x, y, z, azimuth, limit: float, curved: bool) -> np.ndarray:
+def within_lateral_limits(
+    x: np.ndarray, y: np.ndarray, z: np.ndarray, azimuth: float | np.ndarray, limit: float, curved: bool
+) -> np.ndarray:
     """True where the vector (x, y, z) lies within +/-`limit` of `azimuth` [rad] (inclusive).
 
     Straight (Dips): the horizontal part h, its azimuth within the limits, h . a >= |h| cos(limit),

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from bbmc.geometry.orientation import downward
 from bbmc.kinematics.criteria import (
     base_planes,
     direct_toppling,
@@ -41,7 +42,9 @@ LINE_MODES = (
 )
 
 
-def pole_modes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits) -> dict[str, np.ndarray]:
+def pole_modes(
+    poles: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> dict[str, np.ndarray]:
     """The critical mask of each pole mode for planes of upward unit normals `poles` (N, 3)."""
     base = base_planes(poles, face, friction, limits)
     return {
@@ -53,7 +56,9 @@ def pole_modes(poles: np.ndarray, face: Face, friction, limits: KinematicLimits)
     }
 
 
-def line_modes(lines: np.ndarray, face: Face, friction, limits: KinematicLimits) -> dict[str, np.ndarray]:
+def line_modes(
+    lines: np.ndarray, face: Face, friction: float | np.ndarray, limits: KinematicLimits
+) -> dict[str, np.ndarray]:
     """The critical mask of each line mode for lines of intersection `lines` (N, 3)."""
     wedge = wedge_sliding(lines, face, friction)
     topple = direct_toppling(lines, face, friction, limits)
@@ -73,6 +78,5 @@ def critical_zone_masks(
     pole mode the mask of the points that, read as poles, are critical; for a line mode, of the
     points that, read as lines, are critical. The stereonet fills its zones from these masks."""
     limits = KinematicLimits() if limits is None else limits
-    down = np.asarray(points, dtype=float)
-    down = np.where(down[..., 2:3] > 0.0, -down, down)
+    down = downward(points)
     return pole_modes(-down, face, friction, limits) | line_modes(down, face, friction, limits)

@@ -14,14 +14,16 @@ or 0 as the mean pole (or the means' intersection) is critical or not. Draws go 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from bbmc.geometry.orientation import fisher_sample, intersection_lines
+from bbmc.geometry.orientation import fisher_sample, intersection_lines, upward
 from bbmc.kinematics.criteria import set_pair_friction
 from bbmc.kinematics.face import Face, KinematicLimits
 from bbmc.kinematics.modes import LINE_MODES, POLE_MODES, line_modes, pole_modes
+from bbmc.kinematics.tallies import names_of_sets
 
 CHUNK_SAMPLES = 1 << 19
 
@@ -38,10 +40,6 @@ class ModeProbability:
     samples: int
 
 
-def _upward(normals: np.ndarray) -> np.ndarray:
-    return np.where(normals[:, 2:3] < 0.0, -normals, normals)
-
-
 def _rows(modes: tuple[str, ...], hits: dict[str, int], group: str, samples: int) -> list[ModeProbability]:
     rows = []
     for mode in modes:
@@ -50,24 +48,33 @@ def _rows(modes: tuple[str, ...], hits: dict[str, int], group: str, samples: int
     return rows
 
 
-def mode_probabilities(set_means, set_kappas, face: Face, friction, limits: KinematicLimits | None = None,
-                       samples: int = 1_000_000, rng: np.random.Generator | None = None,
-                       set_names=None) -> list[ModeProbability]:  # fmt: skip
-    """Per set, the probability of each pole mode; per pair of sets, of each line mode. `set_means`
-    (k, 3) mean poles, `set_kappas` (k,) Fisher K, `friction` [rad] one or per set (a pair takes the
-    smaller), `samples` draws per set."""
+def mode_probabilities(
+    set_means: np.ndarray,
+    set_kappas: np.ndarray,
+    face: Face,
+    friction: float | np.ndarray,
+    limits: KinematicLimits | None = None,
+    samples: int = 1_000_000,
+    rng: np.random.Generator | None = None,
+    set_names: Sequence[str] | None = None,
+) -> list[ModeProbability]:
+    """Per set, the probability of each pole mode; per pair of sets, of each line mode: p = the fraction
+    of `samples` Fisher draws (Fisher 1953; per set) or of their pairwise intersections (per pair of sets)
+    that is critical, with the binomial standard error sqrt(p (1 - p) / samples). `set_means` (k, 3)
+    mean poles, `set_kappas` (k,) Fisher K, `friction` [rad] one or per set (a pair takes the smaller,
+    `set_pair_friction`)."""
     limits = KinematicLimits() if limits is None else limits
     rng = np.random.default_rng(0) if rng is None else rng
     means = np.asarray(set_means, dtype=float)
     friction = np.broadcast_to(np.asarray(friction, dtype=float), (len(means),))
-    names = list(set_names) if set_names is not None else [f"set {s + 1}" for s in range(len(means))]
+    names = names_of_sets(len(means), set_names)
     pole_hits = [dict.fromkeys(POLE_MODES, 0) for _ in means]
     pairs = [(a, b) for a in range(len(means)) for b in range(a + 1, len(means))]
     line_hits = {pair: dict.fromkeys(LINE_MODES, 0) for pair in pairs}
     for start in range(0, samples, CHUNK_SAMPLES):
         size = min(CHUNK_SAMPLES, samples - start)
         draws = [
-            _upward(fisher_sample(m, float(k), size, rng)) for m, k in zip(means, set_kappas, strict=True)
+            upward(fisher_sample(m, float(k), size, rng)) for m, k in zip(means, set_kappas, strict=True)
         ]
         for s, normals in enumerate(draws):
             for mode, mask in pole_modes(normals, face, friction[s], limits).items():

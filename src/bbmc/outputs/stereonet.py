@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable
+from typing import Any
 
 import matplotlib
 
@@ -95,19 +96,19 @@ def net_vectors(lon: np.ndarray, lat: np.ndarray) -> np.ndarray:
     return line_vectors(np.radians(bearing), np.radians(plunge)).reshape(*lon.shape, 3)
 
 
-def plot_points(ax: Axes, vectors: np.ndarray, **style) -> Line2D:
+def plot_points(ax: Axes, vectors: np.ndarray, **style: Any) -> Line2D:
     """Points of the lines (or poles) along `vectors` (n, 3); `style`: `Axes.plot` keywords."""
     lon, lat = net_coordinates(vectors)
     return ax.plot(lon, lat, **{"linestyle": "none", "marker": "o", "markersize": 4, **style})[0]
 
 
-def plot_planes(ax: Axes, dip: np.ndarray, dip_direction: np.ndarray, **style) -> list[Line2D]:
+def plot_planes(ax: Axes, dip: np.ndarray, dip_direction: np.ndarray, **style: Any) -> list[Line2D]:
     """Great circles of planes of `dip` and `dip_direction` [rad]; `style`: `Axes.plot` keywords."""
     strike = np.degrees(np.atleast_1d(dip_direction)) - 90.0  # right-hand rule: dips to the strike's right
     return ax.plane(strike, np.degrees(np.atleast_1d(dip)), **style)
 
 
-def plot_cones(ax: Axes, axes: np.ndarray, angles: np.ndarray, **style) -> list:
+def plot_cones(ax: Axes, axes: np.ndarray, angles: np.ndarray, **style: Any) -> list:
     """Small circles of half-angle `angles` [rad] about the lines along `axes` (k, 3), either sense; a
     circle crossing the primitive comes back on the opposite side. `style`: collection keywords."""
     trend, plunge = trend_and_plunge(np.atleast_2d(axes))
@@ -129,7 +130,7 @@ def friction_cone_angle(friction_angle: float, vectors: str) -> float:
     return friction_angle if vectors == "poles" else np.pi / 2.0 - friction_angle
 
 
-def plot_friction_cone(ax: Axes, friction_angle: float, vectors: str, **style) -> list:
+def plot_friction_cone(ax: Axes, friction_angle: float, vectors: str, **style: Any) -> list:
     """The friction cone (`friction_cone_angle`) of `friction_angle` [rad] about the vertical."""
     angle = friction_cone_angle(friction_angle, vectors)
     return plot_cones(ax, np.array([[0.0, 0.0, -1.0]]), np.array([angle]), **style)
@@ -145,7 +146,7 @@ def daylight_envelope(face_dip: float, face_dip_direction: float, count: int = 3
     return poles(dip, direction)
 
 
-def plot_lateral_limits(ax: Axes, trend: float, half_width: float, **style) -> list[Line2D]:
+def plot_lateral_limits(ax: Axes, trend: float, half_width: float, **style: Any) -> list[Line2D]:
     """Straight lateral limits: the two radii of the net at `trend` +- `half_width` [rad] (Dips' straight
     limits; a pole plot centres them on the face's dip direction + 180 deg, a plot of lines on the
     sliding direction)."""

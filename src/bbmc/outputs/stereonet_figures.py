@@ -25,7 +25,9 @@ from matplotlib.contour import QuadContourSet
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
-from bbmc.geometry.orientation import intersection_lines, plane_of_pole, poles
+from bbmc.geometry.orientation import downward, plane_of_pole, poles
+from bbmc.kinematics.face import Face
+from bbmc.kinematics.intersections import set_pair_lines
 from bbmc.outputs.stereonet import (
     COUNT_CONE,
     DENSITY_UNITS,
@@ -51,19 +53,6 @@ FACE_COLOUR = "k"
 FRICTION_COLOUR = "tab:blue"
 DAYLIGHT_COLOUR = "tab:purple"
 LEGEND_WIDTH = 50  # characters of a legend line at 8 pt
-
-
-@dataclass(frozen=True)
-class Face:
-    """A slope face: its dip and dip direction [rad]."""
-
-    dip: float
-    dip_direction: float
-
-    @property
-    def text(self) -> str:
-        """dip/dip direction in degrees, as 60/180."""
-        return _dip_text(self.dip, self.dip_direction)
 
 
 @dataclass(frozen=True)
@@ -147,6 +136,24 @@ def _dip_text(dip: float, dip_direction: float) -> str:
     return f"{np.degrees(dip):.0f}/{np.degrees(dip_direction) % 360.0:03.0f}"
 
 
+def face_text(face: Face) -> str:
+    """A face's dip/dip direction in whole degrees, as 60/180."""
+    return _dip_text(face.dip, face.dip_direction)
+
+
+def plot_face(ax: Axes, face: Face, note: str = "") -> None:
+    """The face's great circle, labelled "slope face 60/180" and `note`."""
+    plot_planes(
+        ax,
+        face.dip,
+        face.dip_direction,
+        color=FACE_COLOUR,
+        linewidth=2.0,
+        label=f"slope face {face_text(face)}{note}",
+        zorder=2,
+    )
+
+
 def _colour(label: int) -> str:
     return RANDOM_COLOUR if label == RANDOM else SET_COLOURS[int(label) % len(SET_COLOURS)]
 
@@ -192,11 +199,9 @@ def plot_set_means(ax: Axes, sets: SetMeans, survey: PoleSurvey) -> None:
 
 def plot_mean_intersections(ax: Axes, sets: SetMeans) -> None:
     """The lines of intersection of every pair of set means, as black triangles."""
-    pairs = [(i, j) for i in range(len(sets.labels)) for j in range(i + 1, len(sets.labels))]
-    if not pairs:
+    if len(sets.labels) < 2:
         return
-    first, second = np.array(pairs).T
-    lines, _ = intersection_lines(sets.poles[first], sets.poles[second])
+    lines = set_pair_lines(sets.poles).lines
     lines = lines[np.all(np.isfinite(lines), axis=1)]
     plot_points(
         ax,
@@ -246,15 +251,7 @@ def pole_plot(
     if sets is not None:
         notes.append("Set means: great circles, mean poles (squares) and 95 % confidence cones (black)")
     if face is not None:
-        plot_planes(
-            ax,
-            face.dip,
-            face.dip_direction,
-            color=FACE_COLOUR,
-            linewidth=2.0,
-            label=f"slope face {face.text}",
-            zorder=2,
-        )
+        plot_face(ax, face)
     return NetDrawing(density, unit, [], notes)
 
 
@@ -299,16 +296,9 @@ def plot_references(ax: Axes, mode: KinematicMode, face: Face, friction_angle: f
     """The face's great circle, the friction cone (`friction_cone_angle`), the daylight envelope on a
     pole plot and the lateral limits, as the mode asks; returns the note naming them."""
     on_lines = " (daylight limit)" if mode.vectors == "lines" else ""
-    plot_planes(
-        ax,
-        face.dip,
-        face.dip_direction,
-        color=FACE_COLOUR,
-        linewidth=2.0,
-        label=f"slope face {face.text}{on_lines}",
-    )
+    plot_face(ax, face, on_lines)
     phi = np.degrees(friction_angle)
-    note = f"{mode.name}: face {face.text} (dip/dip direction), friction angle {phi:.0f}°"
+    note = f"{mode.name}: face {face_text(face)} (dip/dip direction), friction angle {phi:.0f}°"
     if mode.friction_cone:
         cone = np.degrees(friction_cone_angle(friction_angle, mode.vectors))
         plot_friction_cone(
@@ -341,15 +331,11 @@ def plot_references(ax: Axes, mode: KinematicMode, face: Face, friction_angle: f
 
 def _zone_count(zone: Zone, points: np.ndarray, mode: KinematicMode, survey: PoleSurvey | None) -> str:
     """'k of n poles (p %)', and the weighted share for a weighted survey."""
-    inside = np.asarray(zone.mask(_lower(points)), dtype=bool)
+    inside = np.asarray(zone.mask(downward(points)), dtype=bool)
     text = f"{inside.sum()} of {len(points)} {mode.vectors} ({100.0 * inside.mean():.1f} %"
     if survey is not None and survey.weight_cap is not None:
         text += f"; weighted {100.0 * survey.weights[inside].sum() / survey.weights.sum():.1f} %"
     return text + ")"
-
-
-def _lower(vectors: np.ndarray) -> np.ndarray:
-    return np.where(vectors[:, 2:3] > 0, -vectors, vectors)
 
 
 def net_figure(
