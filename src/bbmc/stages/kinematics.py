@@ -406,14 +406,13 @@ def _figures(
         np.array([s.mean_pole for s in found.sets]),
         np.array([s.statistics.alpha95 for s in found.sets]),
     )
-    drawn_face = nets.Face(face.dip, face.dip_direction)
     dpi = config.figure_dpi
-    figures = {"poles": nets.pole_figure(survey, means, drawn_face, config.projection, dpi=dpi)}
+    figures = {"poles": nets.pole_figure(survey, means, face, config.projection, dpi=dpi)}
     lines = _some_intersections(poles)
     for mode, drawing in charts.mode_drawings(face, friction, limits).items():
         points = {"survey": survey} if drawing.vectors == "poles" else {"lines": lines}
         figures[f"net_{mode}"] = nets.kinematic_figure(
-            drawing, drawn_face, friction, projection=config.projection, dpi=dpi, **points
+            drawing, face, friction, projection=config.projection, dpi=dpi, **points
         )
     figures["compass"] = charts.compass_chart(around, config.friction_deg, dpi)
     figures["face_angles"] = charts.face_angle_chart(angles, config.friction_deg, dpi)
