@@ -56,6 +56,8 @@ def config_copy(tmp_path: Path, stage: str, edit) -> Path:
     for key in ("fit_config", "mc_config"):
         if key in data:
             data[key] = str((CONFIGS / data[key]).resolve())
+    for sheet in data.get("surveys", []):
+        sheet["file"] = str((CONFIGS / sheet["file"]).resolve())
     edit(data)
     path = tmp_path / f"{stage}.yaml"
     path.write_text(yaml.safe_dump(data))

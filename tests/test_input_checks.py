@@ -23,7 +23,7 @@ from bbmc.dem.model import build_model
 from bbmc.geometry.polygons import joint_set_trace
 from bbmc.plausibility import ImplausibleValue
 from bbmc.scene.schema import Scene
-from bbmc.stages import audit, bench, fit, joint, joints, mc, shear, slope
+from bbmc.stages import audit, bench, fit, joint, joints, kinematics, mc, shear, slope
 from bbmc.sweep.config import Config as Study
 from stage_runs import PAPER, config_copy
 from stage_runs import refused as _refused
@@ -39,6 +39,7 @@ STAGE_MODELS = {
     "audit": audit.Config,
     "joint": joint.Config,
     "joints": joints.Config,
+    "kinematics": kinematics.Config,
     "shear": shear.Config,
     "slope": slope.Config,
     "bench": bench.Config,
