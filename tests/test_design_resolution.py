@@ -65,6 +65,7 @@ def test_the_engines_fs_grows_with_the_anchors_capacity_on_the_bolted_planar_slo
     assert found[-1] > found[0] + 0.5
 
 
+@pytest.mark.slow  # three strength reductions of the toppling slope, 14 s
 def test_a_toe_anchor_never_lowers_the_fs_of_goodman_and_brays_toppling_slope():
     """An anchor from the toe block into the fixed base, at 0 (none), 1,000 and 10,000 kN: FS
     non-decreasing within the FS tolerance (measured 0.887, 0.981, 1.637)."""

@@ -32,7 +32,7 @@ def _twice(tmp_path: Path, stage: str, config: Path | None) -> tuple[Path, Path]
     return folders[0], folders[1]
 
 
-@pytest.mark.parametrize("stage", ["fit", "mc", "audit", "slope"])
+@pytest.mark.parametrize("stage", ["fit", "mc", "audit", pytest.param("slope", marks=pytest.mark.slow)])
 def test_same_config_gives_bit_identical_csvs(tmp_path, stage):
     config = config_copy(tmp_path, "slope", _short_slope) if stage == "slope" else None
     first, second = _twice(tmp_path, stage, config)

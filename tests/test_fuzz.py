@@ -519,7 +519,12 @@ def test_what_the_fuzzer_found_ends_in_its_documented_status(
     assert fragment in outcome.stderr
 
 
-@pytest.mark.parametrize("name", NAMES)
+UNMUTATED_SLOW = {"bench"}  # its small bench run takes 20 s: make test-slow runs it
+
+
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n in UNMUTATED_SLOW else n for n in NAMES]
+)
 def test_every_seed_runs_unmutated(tmp_path, name: str) -> None:
     """The seeds are valid: a mutation starts from an input that runs (exit 0, results written)."""
     seed = SEEDS[name]

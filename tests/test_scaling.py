@@ -36,6 +36,7 @@ def test_paper_scale_is_the_paper_slope():
         scaling.spacing_scale(0, SLOPE)
 
 
+@pytest.mark.slow  # 12 s of engine runs in fresh processes
 def test_small_table_measured_in_processes_and_derived_columns():
     ballast = np.ones(60_000_000)  # 480 MB here: a process started from this one must not report it
     table = scaling.scaling_table([300, 100], 20, 1, 2**34, SLOPE, min_timed_s=0.0)
