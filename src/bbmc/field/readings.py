@@ -12,7 +12,7 @@ first sheet). Columns, in degrees and metres:
                                          hole given once) and the reference line ("top" or "bottom")
     line_trend_deg, line_plunge_deg      the scanline or borehole the reading was sampled on, or
     face_dip_deg, face_dip_direction_deg the mapped face (or the sampling geometry given once)
-    weight                               the reading's own weight (e.g. how many identical features), >= 0
+    weight                               the reading's own weight (e.g. how many identical features), > 0
     type, location, set                  text: joint, bedding, fault...; where; a set named in the field
     trace_length_m, position_m           trace length > 0; distance along the scanline >= 0
     censored_ends                        how many ends of the trace are hidden: 0, 1 or 2
@@ -79,7 +79,7 @@ NUMBERS = {
     **dict.fromkeys(("dip_deg", "pole_plunge_deg", "alpha_deg", "line_plunge_deg", "face_dip_deg"), QUARTER),
     "beta_deg": Column(0.0, 360.0).or_blank(),
     "hole_plunge_deg": Column(-90.0, 90.0).or_blank(),
-    "weight": NON_NEGATIVE.or_blank(),
+    "weight": POSITIVE.or_blank(),
     "trace_length_m": POSITIVE.or_blank(),
     "position_m": NON_NEGATIVE.or_blank(),
     "censored_ends": Column(0.0, 2.0).or_blank(),

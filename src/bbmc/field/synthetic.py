@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bbmc.geometry.orientation import fisher_sample, poles
+from bbmc.geometry.orientation import fisher_sample, poles, upward
 
 
 @dataclass(frozen=True)
@@ -55,6 +55,6 @@ def synthetic_survey(
     drawn.append(uniform_axes(random_count, rng))
     labels = np.concatenate([np.full(s.count, j) for j, s in enumerate(sets)] + [np.full(random_count, -1)])
     readings = np.vstack(drawn)
-    readings = np.where(readings[:, 2:3] < 0, -readings, readings)
+    readings = upward(readings)
     order = rng.permutation(labels.size)
     return SyntheticSurvey(readings[order], labels[order].astype(int))

@@ -61,8 +61,8 @@ class FaceSweep:
                 for f in range(self.dip.size):
                     out.append(
                         {
-                            "face_dip_deg": float(np.degrees(self.dip[f])),
-                            "face_dip_direction_deg": float(np.degrees(self.dip_direction[f])),
+                            "face_dip_deg": round(float(np.degrees(self.dip[f])), 9),
+                            "face_dip_direction_deg": round(float(np.degrees(self.dip_direction[f])), 9),
                             "mode": mode,
                             "group": group,
                             "percent": float(percent[f]),

@@ -93,7 +93,7 @@ def flexural_toppling(
     (the plane dipping into the face within the limits of alpha_f + pi)."""
     x, y, z = turned_towards(-upward(poles), face.dip_direction)
     slip_dip = np.asarray(face.dip) - np.asarray(friction)
-    outside = daylights(x, y, z, slip_dip, face.dip_direction) & (slip_dip > 0.0)
+    outside = daylights(x, y, z, slip_dip, face.dip_direction, inclusive=True) & (slip_dip > 0.0)
     lateral = within_lateral_limits(x, y, z, face.dip_direction, limits.flexural_toppling, limits.curved)
     return outside & lateral
 

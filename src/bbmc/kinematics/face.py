@@ -76,15 +76,22 @@ def turned_towards(vectors: np.ndarray, azimuth: float | np.ndarray) -> tuple[np
 
 
 def daylights(
-    x: np.ndarray, y: np.ndarray, z: np.ndarray, dip: float | np.ndarray, dip_direction: float | np.ndarray
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    dip: float | np.ndarray,
+    dip_direction: float | np.ndarray,
+    inclusive: bool = False,
 ) -> np.ndarray:
     """True where the downward direction (x, y, z) points out of the plane (`dip`, `dip_direction`)
     into the air above it: v . n > 0, n the plane's upward normal. For a line of plunge p and trend t
     this is tan p < tan(dip) cos(t - dip direction), the line plunging less steeply than the plane's
     apparent dip along its trend (Priest 1993, eq. 2.6; Hudson & Harrison 1997, ch. 18): inside the
-    great circle of the plane on a lower-hemisphere net (strict)."""
+    great circle of the plane on a lower-hemisphere net (strict; `inclusive`: on the circle too, to
+    within round-off)."""
     nx, ny, nz = pole_components(dip, dip_direction)
-    return x * nx + y * ny + z * nz > ROUND_OFF
+    product = x * nx + y * ny + z * nz
+    return product >= -ROUND_OFF if inclusive else product > ROUND_OFF
 
 
 def within_lateral_limits(
