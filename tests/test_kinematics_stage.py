@@ -137,6 +137,7 @@ BEDDING_WINDOW = {"J1": {"dip_deg": 35, "dip_direction_deg": 165, "half_angle_de
         (lambda d: d["sets"].update(windows=EMPTY_WINDOW), ["key 'sets'", "J1"]),
         (lambda d: d["sets"].update(count=2, windows=BEDDING_WINDOW), ["sets"]),
         (lambda d: d["face"].update(dip_deg=120), ["face.dip_deg"]),
+        (lambda d: d.update(set_friction_deg={"J1": 25}), ["set_friction_deg.J1", "S1"]),
     ],
 )
 def test_a_bad_config_is_refused_in_one_line(tmp_path, edit, fragments):
@@ -161,16 +162,20 @@ def test_a_bad_sheet_is_refused_in_one_line_naming_it(tmp_path, text, fragments)
     refused(outcome, tmp_path / "results" / "kinematics", "sheet.csv", *fragments)
 
 
-def test_the_friction_of_a_windowed_set_is_its_own(tmp_path):
-    """A window's own friction angle of 80 deg (steeper than any plane of it) leaves none of its
-    poles critical for planar sliding; a pair of sets takes the smaller of its two angles, so the
-    bedding's intersections with J2 (30 deg, the config's) still slide as wedges."""
+def test_a_sets_own_friction_angle_is_its_own(tmp_path):
+    """A set's own friction angle of 80 deg (steeper than any plane of it) leaves none of its poles
+    critical for planar sliding; a pair of sets takes the smaller of its two angles, so the bedding's
+    intersections with J2 (30 deg, the config's) still slide as wedges."""
     windows = {
-        "bedding": {"dip_deg": 35, "dip_direction_deg": 165, "half_angle_deg": 15, "friction_deg": 80},
+        "bedding": {"dip_deg": 35, "dip_direction_deg": 165, "half_angle_deg": 15},
         "J2": {"dip_deg": 60, "dip_direction_deg": 220, "half_angle_deg": 15},
     }
-    outcome = run_stage("kinematics", tmp_path / "results",
-                        _config(tmp_path, lambda d: d["sets"].update(windows=windows)))  # fmt: skip
+
+    def edit(data):
+        data["sets"].update(windows=windows)
+        data["set_friction_deg"] = {"bedding": 80}
+
+    outcome = run_stage("kinematics", tmp_path / "results", _config(tmp_path, edit))
     assert outcome.exit_code == 0, outcome.output
     modes = pd.read_csv(tmp_path / "results" / "kinematics" / "modes.csv")
     planar = modes[modes["mode"] == "planar_sliding"].set_index("group")

@@ -7,6 +7,7 @@ on the stereonet, its zones filled from the classification's own masks
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import matplotlib
 
@@ -83,8 +84,14 @@ def face_angle_chart(sweep: FaceSweep, friction_deg: float, dpi: int) -> Figure:
     return fig
 
 
-def _mask(face: Face, friction: float, limits: KinematicLimits, mode: str):
-    return lambda points: critical_zone_masks(points, face, friction, limits)[mode]
+def _mask(face: Face, friction: float, limits: KinematicLimits, mode: str, without: str | None = None):
+    """The zone of `mode` (less that of `without`) on lower-hemisphere points."""
+
+    def mask(points: np.ndarray) -> np.ndarray:
+        masks = critical_zone_masks(points, face, friction, limits)
+        return masks[mode] & ~masks[without] if without else masks[mode]
+
+    return mask
 
 
 def mode_drawings(face: Face, friction: float, limits: KinematicLimits) -> dict[str, KinematicMode]:
@@ -95,8 +102,11 @@ def mode_drawings(face: Face, friction: float, limits: KinematicLimits) -> dict[
     and daylight envelope belong to it."""
     towards = float(face.dip_direction)
     opposite = (towards + math.pi) % (2.0 * math.pi)
-    zone = lambda name, mode, colour: Zone(name, _mask(face, friction, limits, mode), colour)  # noqa: E731
-    return {
+
+    def zone(name: str, mode: str, colour: str, without: str | None = None) -> Zone:
+        return Zone(name, _mask(face, friction, limits, mode, without), colour)
+
+    drawings = {
         "planar_sliding": KinematicMode(
             "planar sliding",
             "poles",
@@ -123,10 +133,22 @@ def mode_drawings(face: Face, friction: float, limits: KinematicLimits) -> dict[
             "direct toppling",
             "lines",
             (
-                zone("intersection zone (toppling)", "direct_toppling", "#c9a7f0"),
-                zone("oblique toppling", "oblique_toppling", "#e6d8f7"),
+                zone(
+                    "zone 1: toppling (the base planes may slide)",
+                    "direct_toppling",
+                    "#c9a7f0",
+                    without="direct_toppling_steep",
+                ),
+                zone(
+                    "zone 2: toppling, steeper than the base planes' friction cone",
+                    "direct_toppling_steep",
+                    "#a77fe0",
+                ),
+                zone("zone 3: oblique toppling", "oblique_toppling", "#e6d8f7"),
             ),
             (opposite, limits.direct_toppling),
             daylight=False,
+            cone_of="poles",
         ),
     }
+    return {name: replace(drawing, curved=limits.curved) for name, drawing in drawings.items()}

@@ -109,9 +109,12 @@ class Zone:
 @dataclass(frozen=True)
 class KinematicMode:
     """A failure mode as drawn: its name, whether its points are poles ("poles") or lines ("lines": dip
-    vectors, intersections), its zones, its straight lateral limits (centre trend, half-width) [rad] or
-    None, and whether its criterion uses the friction cone about the vertical and (for poles) the
-    daylight envelope (flexural toppling uses neither: its zone's own edge is its slip limit)."""
+    vectors, intersections), its zones, its lateral limits (centre trend, half-width) [rad] or None
+    (`curved`: mplstereonet's small circles, which the zones' edges show, not drawn as lines), whether
+    its criterion uses the friction cone about the vertical and (for poles) the daylight envelope
+    (flexural toppling uses neither: its zone's own edge is its slip limit), and which friction cone:
+    that of its own points (None), or "poles" for lines split by their base planes' cone (direct
+    toppling: phi from the centre)."""
 
     name: str
     vectors: str
@@ -119,6 +122,8 @@ class KinematicMode:
     lateral_limits: tuple[float, float] | None = None
     friction_cone: bool = True
     daylight: bool = True
+    curved: bool = False
+    cone_of: str | None = None
 
 
 @dataclass(frozen=True)
@@ -295,21 +300,16 @@ def kinematic_plot(
 def plot_references(ax: Axes, mode: KinematicMode, face: Face, friction_angle: float) -> str:
     """The face's great circle, the friction cone (`friction_cone_angle`), the daylight envelope on a
     pole plot and the lateral limits, as the mode asks; returns the note naming them."""
-    on_lines = " (daylight limit)" if mode.vectors == "lines" else ""
+    on_lines = " (daylight limit)" if mode.vectors == "lines" and mode.daylight else ""
     plot_face(ax, face, on_lines)
     phi = np.degrees(friction_angle)
     note = f"{mode.name}: face {face_text(face)} (dip/dip direction), friction angle {phi:.0f}°"
     if mode.friction_cone:
-        cone = np.degrees(friction_cone_angle(friction_angle, mode.vectors))
-        plot_friction_cone(
-            ax, friction_angle, mode.vectors, edgecolor=FRICTION_COLOUR, linewidth=1.5, zorder=2
-        )
-        ax.plot(
-            [],
-            [],
-            color=FRICTION_COLOUR,
-            label=f"friction cone, φ = {phi:.0f}° ({cone:.0f}° from the centre)",
-        )
+        kind = mode.cone_of or mode.vectors
+        cone = np.degrees(friction_cone_angle(friction_angle, kind))
+        plot_friction_cone(ax, friction_angle, kind, edgecolor=FRICTION_COLOUR, linewidth=1.5, zorder=2)
+        whose = "base planes' friction cone" if kind != mode.vectors else "friction cone"
+        ax.plot([], [], color=FRICTION_COLOUR, label=f"{whose}, φ = {phi:.0f}° ({cone:.0f}° from the centre)")
     if mode.vectors == "poles" and mode.daylight:
         envelope = daylight_envelope(face.dip, face.dip_direction)
         plot_points(
@@ -321,7 +321,9 @@ def plot_references(ax: Axes, mode: KinematicMode, face: Face, friction_angle: f
             linewidth=1.3,
             label="daylight envelope",
         )
-    if mode.lateral_limits is not None:
+    if mode.lateral_limits is not None and mode.curved:
+        note += f", lateral limits ±{np.degrees(mode.lateral_limits[1]):.0f}° (curved: the zone's edges)"
+    elif mode.lateral_limits is not None:
         trend, half = mode.lateral_limits
         first, _ = plot_lateral_limits(ax, trend, half)
         first.set_label(f"lateral limits ±{np.degrees(half):.0f}°")

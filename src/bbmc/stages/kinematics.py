@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from dataclasses import replace
 from typing import Annotated, Literal
 
 import numpy as np
@@ -34,7 +35,7 @@ from bbmc.geometry.orientation import DIPS_MAX_WEIGHT, line_vectors, pole_trend_
 from bbmc.io import StageResult
 from bbmc.kinematics import compass
 from bbmc.kinematics.config import Azimuth, Dip, FaceSection, Friction, LimitsSection
-from bbmc.kinematics.intersections import pair_lines
+from bbmc.kinematics.intersections import pair_chunks, pair_lines, pair_plan
 from bbmc.kinematics.probabilistic import mode_probabilities
 from bbmc.kinematics.tallies import kinematic_tally
 from bbmc.outputs import kinematic_charts as charts
@@ -97,7 +98,6 @@ class SetWindow(Section):
     dip_deg: Dip
     dip_direction_deg: Azimuth
     half_angle_deg: Annotated[float, Field(gt=0, le=90)]
-    friction_deg: Friction | None = None  # this set's own friction angle
 
 
 class SetsSection(Section):
@@ -148,6 +148,7 @@ class Config(Section):
     sets: SetsSection = Field(default_factory=SetsSection)
     face: FaceSection
     friction_deg: Friction
+    set_friction_deg: dict[str, Friction] = Field(default_factory=dict)  # a set's own, by its name
     lateral_limits: LimitsSection = Field(default_factory=LimitsSection)
     compass_step_deg: Annotated[float, Field(gt=0, le=45)] = 1.0
     face_angles: FaceAngles = Field(default_factory=FaceAngles)
@@ -212,7 +213,7 @@ def _found(config: Config, poles: np.ndarray, weights: np.ndarray) -> FoundSets:
     return found
 
 
-def set_names(config: Config, found: FoundSets) -> list[str]:
+def set_names(found: FoundSets) -> list[str]:
     """The windows' names, else S1, S2, ... by decreasing count of readings."""
     return [s.window or f"S{k + 1}" for k, s in enumerate(found.sets)]
 
@@ -271,8 +272,9 @@ def _sets_table(found: FoundSets, names: list[str], fits: dict) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _bic_table(found: FoundSets) -> pd.DataFrame:
-    return pd.DataFrame([vars(row) for row in found.bic])
+def _rows_table(rows: Iterable[object]) -> pd.DataFrame:
+    """A table of dataclass rows, one column per field."""
+    return pd.DataFrame([vars(row) for row in rows])
 
 
 def _fits(config: Config, sheets: list[Readings], found: FoundSets, names: list[str]) -> dict:
@@ -294,17 +296,14 @@ def _fits(config: Config, sheets: list[Readings], found: FoundSets, names: list[
 
 
 def _friction(config: Config, names: list[str]) -> np.ndarray:
-    windows = config.sets.windows or {}
-    own = [windows[n].friction_deg if n in windows else None for n in names]
-    return np.radians([config.friction_deg if f is None else f for f in own])
-
-
-def _tally_table(tally) -> pd.DataFrame:
-    return pd.DataFrame([vars(row) for row in tally.rows])
-
-
-def _probability_table(rows) -> pd.DataFrame:
-    return pd.DataFrame([vars(row) for row in rows])
+    """Each set's friction angle [rad]: its own from `set_friction_deg`, else `friction_deg`; a name
+    that is no set found is a fault of that key."""
+    for name in config.set_friction_deg:
+        if name not in names:
+            raise ConfigKeyError(
+                f"set_friction_deg.{name}", f"no set '{name}' was found (the sets: {', '.join(names)})"
+            )
+    return np.radians([config.set_friction_deg.get(n, config.friction_deg) for n in names])
 
 
 def _set_pairs_table(tally) -> pd.DataFrame:
@@ -330,7 +329,7 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
     weights = np.concatenate([r.weights for r in sheets])
     progress(f"read {len(poles)} readings from {len(sheets)} sheets; finding the sets")
     found = _found(config, poles, weights)
-    names = set_names(config, found)
+    names = set_names(found)
     face, limits = config.face.face(), config.lateral_limits.limits()
     friction = math.radians(config.friction_deg)
     set_friction = _friction(config, names)
@@ -377,12 +376,12 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
         tables={
             "readings": _readings_table(sheets, found.labels, names),
             "sets": _sets_table(found, names, fits),
-            "set_count": _bic_table(found),
-            "modes": _tally_table(tally),
+            "set_count": _rows_table(found.bic),
+            "modes": _rows_table(tally.rows),
             "set_pairs": _set_pairs_table(tally),
             "compass": pd.DataFrame(around.rows()),
             "face_angles": pd.DataFrame(angles.rows()),
-            "probability": _probability_table(probabilities),
+            "probability": _rows_table(probabilities),
         },
         figures=figures,
         files={"joint_sets.yaml": joint_sets_yaml(entries, config.face.dip_direction_deg, comments)},
@@ -408,11 +407,18 @@ def _figures(
     )
     dpi = config.figure_dpi
     figures = {"poles": nets.pole_figure(survey, means, face, config.projection, dpi=dpi)}
+    own = ", ".join(f"{n} {v:g}°" for n, v in config.set_friction_deg.items())
+    note = f"Zones drawn for φ = {config.friction_deg:g}°; sets counted at their own φ: {own}" if own else ""
     lines = _some_intersections(poles)
     for mode, drawing in charts.mode_drawings(face, friction, limits).items():
         points = {"survey": survey} if drawing.vectors == "poles" else {"lines": lines}
-        figures[f"net_{mode}"] = nets.kinematic_figure(
-            drawing, face, friction, projection=config.projection, dpi=dpi, **points
+
+        def draw(ax, drawing=drawing, points=points) -> nets.NetDrawing:
+            drawn = nets.kinematic_plot(ax, drawing, face, friction, **points)
+            return replace(drawn, notes=[*drawn.notes, note]) if note else drawn
+
+        figures[f"net_{mode}"] = nets.net_figure(
+            f"Kinematic analysis, {drawing.name}", draw, config.projection, dpi
         )
     figures["compass"] = charts.compass_chart(around, config.friction_deg, dpi)
     figures["face_angles"] = charts.face_angle_chart(angles, config.friction_deg, dpi)
@@ -420,11 +426,9 @@ def _figures(
 
 
 def _some_intersections(poles: np.ndarray, count: int = 3000) -> np.ndarray:
-    """Up to `count` lines of intersection of pole pairs, drawn at random (seeded): the net shows
-    them as points; the tallies count every pair of the plan."""
-    rng = np.random.default_rng(0)
-    n = len(poles)
-    i, j = rng.integers(0, n, count), rng.integers(0, n, count)
-    keep = i != j
-    lines, defined = pair_lines(poles, i[keep], j[keep])
+    """The lines of intersection of `count` pairs of readings drawn at random (seeded, as the tallies
+    sample pairs): the nets show them as points; the tallies count every pair of their own plan."""
+    plan = pair_plan(len(poles), max_exact_readings=0, sample_pairs=count)
+    i, j = next(pair_chunks(plan), (np.array([], int), np.array([], int)))
+    lines, defined = pair_lines(poles, i, j)
     return lines[defined]
