@@ -87,6 +87,7 @@ def test_quick_stages_draw_every_text_inside_the_canvas(tmp_path, stage):
     _assert_inside(stage.run(config).figures)
 
 
+@pytest.mark.slow  # the whole slope stage, 15 s
 def test_the_slope_stages_figures_draw_every_text_inside_the_canvas(tmp_path):
     """Figs 7-10, fs_vs_dip, dip_sensitivity and the two mechanisms (the sensitivity cut to two dips and
     no animation, to keep it short: the figures are the same kind); and the slope's ParaView series

@@ -25,6 +25,7 @@ def _jit_env(**more: str) -> dict[str, str]:
     return env
 
 
+@pytest.mark.slow  # two warm-ups in fresh processes, 11 s
 def test_a_second_warmup_loads_every_kernel_from_the_cache():
     """Not timed (the machine's load varies): the second call says it compiled nothing."""
     first = _warmup(_jit_env())
