@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 import pandas as pd
@@ -82,3 +83,11 @@ def delete_key(path: str):
         del data[keys[-1]]
 
     return edit
+
+
+def field_script(name: str):
+    """The script data/field/<name>.py that draws a synthetic survey, loaded as a module."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "data" / "field" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

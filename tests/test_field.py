@@ -16,7 +16,6 @@ Tolerances: four standard errors of each estimate at the sample's size (a miss h
 
 from __future__ import annotations
 
-import importlib.util
 import subprocess
 import sys
 from pathlib import Path
@@ -39,7 +38,7 @@ from bbmc.geometry.orientation import (
     terzaghi_weights,
 )
 from bbmc.rockmass import RockMassConfig, generate
-from stage_runs import ROOT, config_copy, refused, run_stage
+from stage_runs import ROOT, config_copy, field_script, refused, run_stage
 
 FIELD = ROOT / "data" / "field"
 SCRIPT = FIELD / "make_scanline_example.py"
@@ -47,10 +46,7 @@ EXAMPLE = FIELD / "scanline_example.csv"
 
 
 def _script():
-    spec = importlib.util.spec_from_file_location("make_scanline_example", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return field_script("make_scanline_example")
 
 
 TRUTH = _script().TRUTH

@@ -12,7 +12,6 @@ a few misassigned random readings. K within a factor 2 of the truth: K's own sam
 
 from __future__ import annotations
 
-import importlib.util
 import math
 from pathlib import Path
 
@@ -23,17 +22,14 @@ import yaml
 
 from bbmc.geometry.orientation import angle_between_axes, poles
 from bbmc.rockmass import RockMassConfig, generate
-from stage_runs import CONFIGS, ROOT, refused, run_stage
+from stage_runs import CONFIGS, ROOT, field_script, refused, run_stage
 
 FIELD = ROOT / "data" / "field"
 SCRIPT = FIELD / "make_pit_survey.py"
 
 
 def _script():
-    spec = importlib.util.spec_from_file_location("make_pit_survey", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return field_script("make_pit_survey")
 
 
 TRUTH = _script().TRUTH
