@@ -1,0 +1,8 @@
+"""Wedge failure of a rock slope: two joint planes, the face and the upper surface (Hoek & Bray 1981,
+ch. 8; Wyllie & Mah 2004, ch. 7; Rocscience Swedge).
+
+* ``geometry``: the wedge's vertices, line of intersection, normals, areas, volume, trace lengths and
+  heights, for one wedge or arrays of wedges (``wedge_geometry``, ``wedge_geometries``);
+* ``short_solution``: Hoek & Bray's short-solution angles, factors X, Y, A, B and wedge factor K;
+* ``vectors``: the stacked 3-vector algebra both use.
+"""
