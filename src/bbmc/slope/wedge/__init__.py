@@ -4,5 +4,7 @@ ch. 8; Wyllie & Mah 2004, ch. 7; Rocscience Swedge).
 * ``geometry``: the wedge's vertices, line of intersection, normals, areas, volume, trace lengths and
   heights, for one wedge or arrays of wedges (``wedge_geometry``, ``wedge_geometries``);
 * ``short_solution``: Hoek & Bray's short-solution angles, factors X, Y, A, B and wedge factor K;
-* ``vectors``: the stacked 3-vector algebra both use.
+* ``vectors``: the stacked 3-vector algebra both use;
+* ``mechanics``: the vector solution (the active resultant, normal reactions, sliding mode, FS);
+* ``loads``: water (Hoek & Bray's, no crack), seismic and force vectors.
 """
