@@ -3,9 +3,9 @@ Bray's wedge factor K, the planar limit), 3DEC's sliding wedge, Hoek & Bray's cl
 their water, the stereonet's mode rule on random wedges, and hand calculations of the loads. Each
 tolerance is stated where it is used.
 
-The classic wedge and the stereonet test need a wedge's areas, weight and the side of each joint plane
-it lies on: `_tetrahedron` builds them here from the four planes through a toe at the origin (the
-reference the geometry module is checked against, not a part of bbmc)."""
+The classic wedge and the stereonet test take the wedge's normals, areas and volume from
+`bbmc.slope.wedge.geometry` (itself checked against hand-worked wedges and scipy's convex hull in
+tests/test_wedge_geometry.py)."""
 
 from __future__ import annotations
 
@@ -20,6 +20,7 @@ from scipy.optimize import brentq
 from bbmc.geometry.orientation import line_vectors, poles, trend_and_plunge, wrapped_azimuth
 from bbmc.slope.wedge import loads
 from bbmc.slope.wedge import mechanics as wm
+from bbmc.slope.wedge.geometry import wedge_geometries, wedge_geometry
 
 DEG = math.pi / 180.0
 UP = np.array([0.0, 0.0, 1.0])
@@ -53,58 +54,20 @@ def _wedge_factor(n1: np.ndarray, n2: np.ndarray) -> tuple[float, float, float]:
     return math.sin(beta) / math.sin(xi / 2.0), beta, xi
 
 
-def _tetrahedron(joint_1, joint_2, upper, face, height_1):
-    """Wedges of (dip, dip direction) [rad] planes (arrays (n,) each) with the toe at the origin: the
-    joints and the face through it, the upper surface through the point of plane 1's trace on the face
-    `height_1` above the toe. Returns the normals of planes 1 and 2 into the wedge, A1, A2, volume,
-    total height H (the top of the line of intersection), and whether the wedge forms (the line of
-    intersection daylights in the face below the upper surface, every vertex above the toe)."""
-    n1, n2, n3, n4 = (poles(*plane) for plane in (joint_1, joint_2, upper, face))
-    rising = np.cross(n1, n4)
-    rising = np.where(rising[..., 2:] < 0.0, -rising, rising)
-    crest_1 = rising * (height_1 / rising[..., 2])[..., None]
-    level = _dot(n3, crest_1)
-    zero = np.zeros_like(level)
-
-    def meet(a, b, c, da, db, dc):
-        return np.linalg.solve(np.stack([a, b, c], axis=-2), np.stack([da, db, dc], axis=-1)[..., None])[
-            ..., 0
-        ]
-
-    top, crest_2 = meet(n1, n2, n3, zero, zero, level), meet(n2, n3, n4, zero, level, zero)
-    up_line = np.cross(n1, n2) * np.sign(np.cross(n1, n2)[..., 2:])
-    forms = (
-        (_dot(up_line, n4) < -1e-3)
-        & (_dot(up_line, n3) > 1e-3)
-        & (rising[..., 2] > 1e-3)
-        & (_dot(top, up_line) > 0.0)
-        & (top[..., 2] > 0.0)
-        & (crest_2[..., 2] > 0.0)
-    )
-    into_1 = n1 * np.sign(_dot(n1, crest_2))[..., None]
-    into_2 = n2 * np.sign(_dot(n2, crest_1))[..., None]
-    area_1 = 0.5 * np.linalg.norm(np.cross(top, crest_1), axis=-1)
-    area_2 = 0.5 * np.linalg.norm(np.cross(top, crest_2), axis=-1)
-    volume = np.abs(np.linalg.det(np.stack([top, crest_1, crest_2], axis=-2))) / 6.0
-    return into_1, into_2, area_1, area_2, volume, top[..., 2], forms
-
-
 # Hoek & Bray's classic wedge (1981, ch. 8 and appendix 2; Wyllie & Mah 2004, appendix III), in their
 # units (ft, lbf): what FS needs is only that the units agree.
-CLASSIC = dict(
-    joint_1=(45.0 * DEG, 105.0 * DEG),
-    joint_2=(70.0 * DEG, 235.0 * DEG),
-    upper=(12.0 * DEG, 195.0 * DEG),
-    face=(65.0 * DEG, 185.0 * DEG),
-    height_1=100.0,
-)
+CLASSIC = tuple(a * DEG for a in (45.0, 105.0, 70.0, 235.0, 65.0, 185.0, 12.0, 195.0))
+
+
+def _classic_geometry():
+    return wedge_geometry(*CLASSIC, height_h1=100.0)
 
 
 def _classic(water: bool) -> wm.WedgeSolution:
-    n1, n2, a1, a2, volume, height, forms = _tetrahedron(**CLASSIC)
-    assert forms
-    u1, u2 = loads.hoek_bray_water(height, a1, a2, 62.5) if water else (0.0, 0.0)
-    force = wm.active_resultant(160.0 * volume, n1, n2, u1, u2)
+    g = _classic_geometry()
+    n1, n2, a1, a2 = g.normal_1, g.normal_2, g.area_1, g.area_2
+    u1, u2 = loads.hoek_bray_water(g.height_h, a1, a2, 62.5) if water else (0.0, 0.0)
+    force = wm.active_resultant(160.0 * g.volume, n1, n2, u1, u2)
     return wm.wedge_factor_of_safety(
         n1, n2, a1, a2, force, wm.MohrCoulomb(500.0, 20.0 * DEG), wm.MohrCoulomb(1000.0, 30.0 * DEG)
     )
@@ -113,7 +76,7 @@ def _classic(water: bool) -> wm.WedgeSolution:
 def test_classic_wedge_dry_and_with_hoek_and_brays_water():
     """FS 1.8464 dry and 1.2180 with water (the issue's values, computed independently of bbmc), each
     to 5e-4, both sliding on both planes; the total height is 130 ft (to 0.01 ft: the issue's H)."""
-    *_, height, _ = _tetrahedron(**CLASSIC)
+    height = _classic_geometry().height_h
     assert float(height) == pytest.approx(130.0, abs=0.01)
     dry, wet = _classic(False), _classic(True)
     assert float(dry.factor_of_safety) == pytest.approx(1.8464, abs=5e-4)
@@ -124,7 +87,8 @@ def test_classic_wedge_dry_and_with_hoek_and_brays_water():
 def test_classic_wedge_factor_is_1_505():
     """The classic wedge's K = sin beta / sin(xi/2) = 1.505 (the issue's value, to its 5e-4), and the
     vector solution dry with c = 0 gives K tan phi / tan psi_i (to 1e-12)."""
-    n1, n2, *_ = _tetrahedron(**CLASSIC)
+    g = _classic_geometry()
+    n1, n2 = g.normal_1, g.normal_2
     k, *_ = _wedge_factor(n1, n2)
     assert k == pytest.approx(1.505, abs=5e-4)
     fs = float(_dry(n1, n2, 30.0 * DEG, 30.0 * DEG).factor_of_safety)
@@ -192,7 +156,9 @@ def _between(start: np.ndarray, azimuth: np.ndarray, end: np.ndarray) -> np.ndar
 
 def test_mode_follows_the_stereonet_rule_on_random_wedges():
     """Dry, gravity only, on 40 000 random plane pairs, faces and upper surfaces, of which the wedges
-    that form: a plane whose dip direction alone lies between the trend of the line of intersection
+    that form with the toe as their lowest vertex (the rule's premise: the geometry also forms wedges
+    whose crest point C2 or top T lies below the toe, about 2 % of this sample, where the wedge need not
+    move towards the face): a plane whose dip direction alone lies between the trend of the line of intersection
     and the face's dip direction carries the wedge alone (Hudson & Harrison 1997); where both do, one
     plane overlies the wedge and the wedge slides on the other; where neither does, on both planes.
     Every wedge agrees (no tolerance: the modes are counted); the sample holds thousands of each."""
@@ -202,12 +168,14 @@ def test_mode_follows_the_stereonet_rule_on_random_wedges():
     dd_1, dd_2, face_dd = rng.uniform(0.0, 2.0 * np.pi, (3, count))
     face = (rng.uniform(40.0, 89.0, count) * DEG, face_dd)
     upper = (rng.uniform(0.0, 20.0, count) * DEG, wrapped_azimuth(face_dd + rng.uniform(-0.5, 0.5, count)))
-    n1, n2, *_, forms = _tetrahedron((dip_1, dd_1), (dip_2, dd_2), upper, face, 1.0)
-    solution = _dry(n1[forms], n2[forms], 30.0 * DEG, 30.0 * DEG)
-    trend, _ = trend_and_plunge(np.cross(n1, n2)[forms])
+    g = wedge_geometries(dip_1, dd_1, dip_2, dd_2, *face, *upper, height_h1=1.0)
+    forms = g.formed & (g.crest_2[:, 2] > 0.0) & (g.top[:, 2] > 0.0)  # the toe is the lowest vertex
+    n1, n2 = g.normal_1[forms], g.normal_2[forms]
+    solution = _dry(n1, n2, 30.0 * DEG, 30.0 * DEG)
+    trend, _ = trend_and_plunge(np.cross(n1, n2))
     on_1 = _between(trend, dd_1[forms], face_dd[forms])
     on_2 = _between(trend, dd_2[forms], face_dd[forms])
-    plane_1_overlies = n1[forms][:, 2] < 0.0
+    plane_1_overlies = n1[:, 2] < 0.0
     expected = np.where(on_1 & ~on_2, 1, np.where(on_2 & ~on_1, 2, 3))
     expected = np.where(on_1 & on_2, np.where(plane_1_overlies, 2, 1), expected)
     assert np.array_equal(solution.mode, expected)

@@ -22,7 +22,12 @@ The factors (Hoek & Bray 1981, eqs. for the short solution; H the wedge's total 
     A = (cos psi_a - cos psi_b cos theta_na.nb) / (sin psi_5 sin^2 theta_na.nb)
     B = (cos psi_b - cos psi_a cos theta_na.nb) / (sin psi_5 sin^2 theta_na.nb)
     FS = 3 / (gamma H) (c_A X + c_B Y) + (A - gamma_w X / (2 gamma)) tan phi_A
-         + (B - gamma_w Y / (2 gamma)) tan phi_B
+         + (B - gamma_w Y / (2 gamma)) tan phi_B                (`short_solution_factor_of_safety`)
+
+gamma the rock's and gamma_w the water's unit weight; gamma_w = 0 is the dry wedge, gamma_w > 0 Hoek &
+Bray's water without a tension crack (mean pressure gamma_w H / 6 on each plane, `loads.hoek_bray_water`).
+The solution holds where the wedge slides on both planes (both bracketed terms of the normal forces
+>= 0) under gravity and water alone; elsewhere it is not the wedge's FS (`mechanics` gives the mode).
 
 By the sine rule in triangle O C2 T, X = A_1 H / (3 V sin psi_5) (A_1 the area on plane 1, V the
 volume), and likewise Y = A_2 H / (3 V sin psi_5); A and B are the normal reactions on planes 1 and 2
@@ -41,7 +46,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from bbmc.slope.wedge.vectors import Vectors, angle_between, unit
 
@@ -116,3 +121,30 @@ def short_solution_angles(
             a=(cos_a - cos_b * cos_ab) / (sin_5 * sin2_ab),
             b=(cos_b - cos_a * cos_ab) / (sin_5 * sin2_ab),
         )
+
+
+def short_solution_factor_of_safety(
+    angles: ShortSolutionAngles,
+    total_height: ArrayLike,
+    unit_weight: ArrayLike,
+    cohesion_a: ArrayLike,
+    cohesion_b: ArrayLike,
+    friction_a: ArrayLike,
+    friction_b: ArrayLike,
+    water_unit_weight: ArrayLike = 0.0,
+) -> Array:
+    """Hoek & Bray's short-solution FS (module docstring) of wedges of short-solution `angles`, total
+    height H [m], rock unit weight gamma [N/m^3], cohesions c_A, c_B [Pa] and friction angles phi_A,
+    phi_B [rad] of planes 1 (A) and 2 (B), and gamma_w [N/m^3] (0: dry)."""
+    gamma = np.asarray(unit_weight, dtype=float)
+    ratio = np.asarray(water_unit_weight, dtype=float) / (2.0 * gamma)
+    cohesion = (
+        3.0
+        / (gamma * np.asarray(total_height, dtype=float))
+        * (np.asarray(cohesion_a, dtype=float) * angles.x + np.asarray(cohesion_b, dtype=float) * angles.y)
+    )
+    return (
+        cohesion
+        + (angles.a - ratio * angles.x) * np.tan(friction_a)
+        + (angles.b - ratio * angles.y) * np.tan(friction_b)
+    )
