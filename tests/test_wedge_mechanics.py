@@ -158,9 +158,10 @@ def test_mode_follows_the_stereonet_rule_on_random_wedges():
     """Dry, gravity only, on 40 000 random plane pairs, faces and upper surfaces, of which the wedges
     that form with the toe as their lowest vertex (the rule's premise: the geometry also forms wedges
     whose crest point C2 or top T lies below the toe, about 2 % of this sample, where the wedge need not
-    move towards the face): a plane whose dip direction alone lies between the trend of the line of intersection
-    and the face's dip direction carries the wedge alone (Hudson & Harrison 1997); where both do, one
-    plane overlies the wedge and the wedge slides on the other; where neither does, on both planes.
+    move towards the face): a plane whose dip direction alone lies between the trend of the line of
+    intersection and the face's dip direction carries the wedge alone (Hudson & Harrison 1997); where
+    both do, one plane overlies the wedge and the wedge slides on the other; where neither does, on
+    both planes.
     Every wedge agrees (no tolerance: the modes are counted); the sample holds thousands of each."""
     rng = np.random.default_rng(35)
     count = 40_000

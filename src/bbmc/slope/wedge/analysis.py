@@ -125,7 +125,9 @@ def wedge_loads(
     resultant (..., 3) [N]."""
     weight = np.asarray(unit_weight, dtype=float) * geometry.volume
     water_1, water_2, water_crack = water_forces(water, geometry, water_unit_weight)
-    zero = np.zeros((*np.shape(weight), 3))
+    shape = np.broadcast_shapes(*(np.shape(v) for v in (weight, water_1, water_2, water_crack)))
+    weight = np.broadcast_to(weight, shape)
+    zero = np.zeros((*shape, 3))
     shaking = (
         zero
         if seismic is None

@@ -20,10 +20,13 @@ tension crack [N], each acting along its plane's normal into the wedge.
 * `PlanePressures(plane_1, plane_2, crack)`: a given mean pressure per plane [Pa]:
   U_1 = p_1 A_1, U_2 = p_2 A_2, V = p_5 A_5 (Swedge's "custom pressure" as a mean per plane).
 
-The equations above are written from the sources' definitions (the corpus searched for this module
-held Swedge's help and support pages, not the pages of Hoek & Bray's appendix 2; the form
-u = gamma_w h_5 / 3 is as the comprehensive solution defines it, and Rocscience's support note
-"the peak pore pressure is at the base of the tension crack" agrees with it).
+Sources, honestly: the no-crack form is the short solution's (checked here against the issue's
+1.2180). For the comprehensive solution, the searchable corpus held Swedge's help and Rocscience's
+support note ("if the model has a tension crack, the peak pore pressure is at the base of the tension
+crack ... the maximum pore pressure is relative to the depth of the tension crack", Swedge theory
+manual section 3.1.4.2), not the pages of Hoek & Bray's appendix 2 or Wyllie & Mah's appendix III;
+u = gamma_w h_5 / 3 on planes 1, 2 and the crack is written from the comprehensive solution as its
+author remembers it, and wants checking against the printed appendix.
 
 SI: pressures Pa, forces N, lengths m, unit weights N/m^3; every value broadcasts over samples.
 """
