@@ -6,5 +6,9 @@ ch. 8; Wyllie & Mah 2004, ch. 7; Rocscience Swedge).
 * ``short_solution``: Hoek & Bray's short-solution angles, factors X, Y, A, B and wedge factor K;
 * ``vectors``: the stacked 3-vector algebra both use;
 * ``mechanics``: the vector solution (the active resultant, normal reactions, sliding mode, FS);
-* ``loads``: water (Hoek & Bray's, no crack), seismic and force vectors.
+* ``loads``: water (Hoek & Bray's, no crack), seismic and force vectors;
+* ``water``: the water models (dry, Hoek & Bray's with or without a tension crack, filled fraction,
+  given pressures per plane);
+* ``essentials``: the compiled fast path of the geometry (what the mechanics needs, no crack);
+* ``analysis``: from the inputs to geometry, loads, mode and FS in one call (``analyse_wedges``).
 """
