@@ -32,7 +32,9 @@ move as the strength is reduced. What a strength-reduction definition changes fo
 reduction is applied: reducing the parameters (tan phi_b / F and JRC / F, as some codes reduce B-B)
 bends the envelope, so the F at limit equilibrium solves sum_i A_i tau_p(sigma_n,i; F) = D by
 iteration on F (at the same sigma_n,i) and differs from the ratio FS; it equals the ratio FS only where
-the envelope is linear in N (Mohr-Coulomb, JRC = 0). In a deformable model (`bbmc fos`'s engine)
+the envelope is linear in N (Mohr-Coulomb, JRC = 0). On 3DEC's wedge (planes 40/130 and 60/220, W = 20 MN,
+A = 120 and 90 m^2, JRC_0 8, JCS_0 60 MPa, phi_b 30 deg, L_n 10 m) the ratio FS is 1.2273 and the
+parameter reduction's 1.2530. In a deformable model (`bbmc fos`'s engine)
 the normal stresses also redistribute as the strength falls.
 
 SI throughout: forces N, areas m^2, stresses Pa, lengths m, angles rad; arrays broadcast over samples.
