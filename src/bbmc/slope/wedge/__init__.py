@@ -11,4 +11,6 @@ ch. 8; Wyllie & Mah 2004, ch. 7; Rocscience Swedge).
   given pressures per plane);
 * ``essentials``: the compiled fast path of the geometry (what the mechanics needs, no crack);
 * ``analysis``: from the inputs to geometry, loads, mode and FS in one call (``analyse_wedges``).
+* ``strength``: Barton-Bandis per plane at its own normal stress (scale, waviness, tangent c and phi);
+* ``support``: bolts (active, passive) and shotcrete; ``design``: the optimum bolt and the least force.
 """
