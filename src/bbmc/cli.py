@@ -36,6 +36,7 @@ from bbmc.stages import run as run_stage
 from bbmc.stages import shear as shear_stage
 from bbmc.stages import slope as slope_stage
 from bbmc.stages import sweep as sweep_stage
+from bbmc.stages import wedge as wedge_stage
 
 
 def _config_path(name: str, noun: str, argument: str | None, option: str | None, default: str | None) -> Path:
@@ -386,6 +387,36 @@ def kinematics_command(config_path: Path, results: str, strict: bool) -> None:
     per mode (net_*.png), provenance.json
     """
     _run_stage(kinematics_stage, config_path, results, strict, progress_after_s=2.0)
+
+
+@main.command(name="wedge")
+@_file_options("wedge", "wedge", "configs/wedge.yaml")
+def wedge_command(config_path: Path, results: str, strict: bool) -> None:
+    """A rock wedge's limit equilibrium (Hoek & Bray; Swedge): two joint planes against a slope face,
+    water, seismic, forces, bolts and shotcrete; the bolts for a target FS; and the wedge of every pair
+    of joint sets (docs/reference/wedge-command.md).
+
+    \b
+    Example:
+      bbmc wedge configs/wedge.yaml
+      bbmc wedge configs/wedge_combinations.yaml
+    writes results/wedge/<name>/ (the config's name, else its file's stem): wedge.csv (every number
+    of the wedge: vertices, areas, volume, weight, line of intersection, H1, H, the loads, normal
+    reactions, driving and resisting forces, mode, FS),
+    design.csv (with a design: section: the bolts' direction, force, count and the FS they give),
+    combinations.csv (with a combinations: section: every pair's wedge, mode, FS, weight and what
+    drives it, sorted by FS, critical ones marked), provenance.json; prints the FS, the designs and
+    the critical wedges. A deterministic wedge that cannot form is refused in one line with the reason.
+    """
+    with reported(wedge_stage.NAME, strict):
+        settings = load_config(config_path, wedge_stage.Config)
+        with scene_at_fault(config_path):
+            result = wedge_stage.run(settings)
+        out_dir = Path(results) / wedge_stage.NAME / wedge_stage.output_name(settings, config_path)
+        written = write_stage(out_dir, result, provenance(wedge_stage.NAME, config_path, settings))
+    for line in wedge_stage.summary_lines(result):
+        click.echo(f"bbmc wedge: {line}")
+    report_written(wedge_stage.NAME, out_dir, written)
 
 
 @main.command(name="slope")

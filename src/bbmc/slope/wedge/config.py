@@ -1,0 +1,242 @@
+"""The keys a wedge is given by (WEDGE.yaml), in degrees, kPa, MPa, kN and metres at the file, and their
+turning into the analysis' SI objects here (radians, Pa, N, N/m^3): the joint planes and their strength,
+the face, the upper surface, the tension crack, water, seismic, forces and support. `bbmc wedge` reads
+these sections; a sweep's wedge base can read the same ones.
+
+Every rule that a single key cannot state is checked with the whole config (`model_validator`), so a
+bad config is refused before any work, in one line naming its key (`bbmc.config`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from bbmc import units
+from bbmc.config import Section
+from bbmc.geometry.orientation import line_vectors
+from bbmc.slope.wedge.analysis import Seismic
+from bbmc.slope.wedge.geometry import TensionCrack
+from bbmc.slope.wedge.loads import force_vector
+from bbmc.slope.wedge.mechanics import MohrCoulomb, PlaneStrength
+from bbmc.slope.wedge.strength import BartonBandis
+from bbmc.slope.wedge.support import Bolt
+from bbmc.slope.wedge.water import DRY, HoekBrayWater, PlanePressures, WaterModel
+
+Dip = Annotated[float, Field(ge=0, le=90)]
+Azimuth = Annotated[float, Field(ge=0, le=360)]
+Positive = Annotated[float, Field(gt=0)]
+NonNegative = Annotated[float, Field(ge=0)]
+Angle = Annotated[float, Field(gt=0, lt=90)]
+Plunge = Annotated[float, Field(ge=-90, le=90)]
+KN = 1e3  # N per kN
+
+
+class MohrCoulombStrength(Section):
+    """c [kPa] and phi [deg]."""
+
+    law: Literal["mohr_coulomb"]
+    cohesion_kPa: NonNegative = 0.0
+    friction_deg: Angle
+
+    def strength(self) -> MohrCoulomb:
+        return MohrCoulomb(self.cohesion_kPa * units.kPa, self.friction_deg * units.deg)
+
+
+class BartonBandisStrength(Section):
+    """JRC_0, JCS_0 [MPa] at the lab length [m], phi_b and the cap phi_max [deg], the waviness i [deg],
+    and the joint's length in the direction of shear [m]: a number, or `intersection` (the wedge's
+    line of intersection, `strength.BartonBandis`); none: no scale correction."""
+
+    law: Literal["barton_bandis"]
+    jrc: Annotated[float, Field(ge=0, le=20)]
+    jcs_MPa: Positive
+    phi_b_deg: Angle
+    phi_max_deg: Angle = 70.0
+    waviness_deg: Annotated[float, Field(ge=0, lt=90)] = 0.0
+    lab_length_m: Positive = 0.1
+    field_length_m: Positive | Literal["intersection"] | None = None
+
+    @model_validator(mode="after")
+    def _below_vertical(self) -> BartonBandisStrength:
+        if self.phi_max_deg + self.waviness_deg >= 90.0:
+            raise ValueError("phi_max_deg + waviness_deg must be below 90")
+        return self
+
+    def strength(self, intersection_length: float = 0.0) -> BartonBandis:
+        """The plane's B-B strength; `intersection_length` [m] is used where field_length_m asks for it."""
+        field = self.field_length_m
+        length = intersection_length if field == "intersection" else (field or 0.0)
+        return BartonBandis(
+            self.jrc,
+            self.jcs_MPa * units.MPa,
+            self.phi_b_deg * units.deg,
+            self.phi_max_deg * units.deg,
+            self.lab_length_m if field is not None else 0.0,
+            length,
+            self.waviness_deg * units.deg,
+        )
+
+
+Strength = Annotated[MohrCoulombStrength | BartonBandisStrength, Field(discriminator="law")]
+
+
+class Orientation(Section):
+    """A plane's dip and dip direction [deg]."""
+
+    dip_deg: Dip
+    dip_direction_deg: Azimuth
+
+    def radians(self) -> tuple[float, float]:
+        return math.radians(self.dip_deg), math.radians(self.dip_direction_deg)
+
+
+class JointPlane(Orientation):
+    """A joint plane (or a joint set's mean plane) and its shear strength."""
+
+    strength: Strength
+
+    def plane_strength(self, intersection_length: float) -> PlaneStrength:
+        """Its strength; a B-B plane scaled to `intersection_length` [m] where it asks for it."""
+        if isinstance(self.strength, BartonBandisStrength):
+            return self.strength.strength(intersection_length)
+        return self.strength.strength()
+
+    def needs_length(self) -> bool:
+        """True where the strength is scaled to the wedge's line of intersection."""
+        return getattr(self.strength, "field_length_m", None) == "intersection"
+
+
+class Face(Orientation):
+    """The slope face; `overhanging: true` where it leans out over the toe (Swedge's overhanging face)."""
+
+    dip_deg: Annotated[float, Field(gt=0, le=90)]
+    overhanging: bool = False
+
+
+class Crack(Orientation):
+    """A tension crack: its plane and its distance [m] from the crest point C1 along plane 1's trace on
+    the upper surface (Hoek & Bray's L)."""
+
+    distance_m: Positive
+
+    def crack(self) -> TensionCrack:
+        return TensionCrack(*self.radians(), self.distance_m)
+
+
+class NoWater(Section):
+    model: Literal["dry"]
+
+    def water(self) -> WaterModel:
+        return DRY
+
+
+class HoekBray(Section):
+    """Hoek & Bray's water (`water.HoekBrayWater`): the filled fraction of their head, gamma_w [kN/m^3]."""
+
+    model: Literal["hoek_bray"]
+    filled: Annotated[float, Field(ge=0, le=1)] = 1.0
+    unit_weight_kN_m3: Positive = 9.81
+
+    def water(self) -> WaterModel:
+        return HoekBrayWater(self.filled)
+
+
+class Pressures(Section):
+    """A mean water pressure [kPa] on each plane and on the tension crack (`water.PlanePressures`)."""
+
+    model: Literal["pressures"]
+    plane_1_kPa: NonNegative
+    plane_2_kPa: NonNegative
+    crack_kPa: NonNegative = 0.0
+
+    def water(self) -> WaterModel:
+        return PlanePressures(
+            self.plane_1_kPa * units.kPa, self.plane_2_kPa * units.kPa, self.crack_kPa * units.kPa
+        )
+
+
+Water = Annotated[NoWater | HoekBray | Pressures, Field(discriminator="model")]
+
+
+class SeismicSection(Section):
+    """k [1] and its direction: down the line of intersection, horizontal along its trend, or `given`
+    by trend and plunge [deg] (plunge down positive)."""
+
+    coefficient: Annotated[float, Field(ge=0, le=1)]
+    direction: Literal["line", "horizontal", "given"] = "line"
+    trend_deg: Azimuth | None = None
+    plunge_deg: Plunge | None = None
+
+    @model_validator(mode="after")
+    def _given(self) -> SeismicSection:
+        given = self.trend_deg is not None and self.plunge_deg is not None
+        some = self.trend_deg is not None or self.plunge_deg is not None
+        if (self.direction == "given") != given or (some and not given):
+            raise ValueError("direction 'given' goes with trend_deg and plunge_deg (and they with it)")
+        return self
+
+    def seismic(self) -> Seismic:
+        if self.direction != "given":
+            return Seismic(self.coefficient, self.direction)
+        return Seismic(
+            self.coefficient, line_vectors(math.radians(self.trend_deg), math.radians(self.plunge_deg))
+        )
+
+
+class ForceSection(Section):
+    """An external force: magnitude [kN] along the line of trend and plunge [deg] (plunge down positive)."""
+
+    magnitude_kN: NonNegative
+    trend_deg: Azimuth
+    plunge_deg: Plunge
+
+    def vector(self):
+        return force_vector(
+            self.magnitude_kN * KN, math.radians(self.trend_deg), math.radians(self.plunge_deg)
+        )
+
+
+class BoltSection(Section):
+    """`count` bolts of capacity [kN] each, drilled along trend and plunge [deg] into the rock, active
+    (pretensioned) or passive (`support.Bolt`)."""
+
+    capacity_kN: NonNegative
+    trend_deg: Azimuth
+    plunge_deg: Plunge
+    count: Annotated[int, Field(ge=1)] = 1
+    form: Literal["active", "passive"] = "active"
+
+    def bolt(self) -> Bolt:
+        return Bolt(
+            self.capacity_kN * KN,
+            math.radians(self.trend_deg),
+            math.radians(self.plunge_deg),
+            self.count,
+            self.form,
+        )
+
+
+class Shotcrete(Section):
+    """Shotcrete on the face: thickness [m] and shear strength [kPa] (`support.shotcrete_force`)."""
+
+    thickness_m: Positive
+    shear_strength_kPa: Positive
+
+
+class BoltDirection(Section):
+    trend_deg: Azimuth
+    plunge_deg: Plunge
+
+
+class Design(Section):
+    """The bolts for a target FS: along a given direction (the least total force by bisection on the
+    vector solution, and its count of bolts of `capacity_kN`), or `optimum` (the optimum direction and
+    its least force in closed form, `design.optimum_bolt`)."""
+
+    target_fs: Annotated[float, Field(gt=0, le=10)]
+    bolt: Literal["optimum"] | BoltDirection = "optimum"
+    capacity_kN: Positive
+    form: Literal["active", "passive"] = "active"
