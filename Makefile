@@ -8,7 +8,7 @@ STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.docs-installed
 
 
-.PHONY: reproduce test test-slow fuzz bench lint docs fit mc audit shear slope fos joint joints kinematics sweep clean
+.PHONY: reproduce test test-slow fuzz bench lint docs fit mc audit shear slope fos joint joints kinematics wedge sweep clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/bbmc warmup
 	touch $(STAMP)
 
-reproduce: fit mc audit shear slope fos joint joints kinematics sweep
+reproduce: fit mc audit shear slope fos joint joints kinematics wedge sweep
 
 fit: $(STAMP)
 	$(BIN)/bbmc fit --config configs/fit.yaml
@@ -48,6 +48,10 @@ joints: $(STAMP)
 
 kinematics: $(STAMP)
 	$(BIN)/bbmc kinematics configs/kinematics.yaml
+
+wedge: $(STAMP)
+	$(BIN)/bbmc wedge configs/wedge.yaml
+	$(BIN)/bbmc wedge configs/wedge_combinations.yaml
 
 sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/planar_block.yaml

@@ -23,7 +23,7 @@ from bbmc.dem.model import build_model
 from bbmc.geometry.polygons import joint_set_trace
 from bbmc.plausibility import ImplausibleValue
 from bbmc.scene.schema import Scene
-from bbmc.stages import audit, bench, fit, joint, joints, kinematics, mc, shear, slope
+from bbmc.stages import audit, bench, fit, joint, joints, kinematics, mc, shear, slope, wedge
 from bbmc.sweep.config import Config as Study
 from stage_runs import PAPER, config_copy
 from stage_runs import refused as _refused
@@ -43,6 +43,8 @@ STAGE_MODELS = {
     "shear": shear.Config,
     "slope": slope.Config,
     "bench": bench.Config,
+    "wedge": wedge.Config,
+    "wedge_combinations": wedge.Config,
 }
 EVERY_CONFIG = sorted(CONFIGS.glob("**/*.yaml"))
 
@@ -489,7 +491,5 @@ def test_help_shows_only_defaults_that_exist(command):
     files = [d for d in defaults if d.endswith(".yaml")]
     assert all((ROOT / f).is_file() for f in files), files
     assert bool(files) == (command not in ("fos", "run", "sweep")), defaults
-    assert (
-        f"[{'SCENE' if command in ('fos', 'run') else 'STUDY' if command == 'sweep' else 'CONFIG'}.yaml]"
-        in text
-    )
+    metavar = {"fos": "SCENE", "run": "SCENE", "sweep": "STUDY", "wedge": "WEDGE"}.get(command, "CONFIG")
+    assert f"[{metavar}.yaml]" in text
