@@ -1,7 +1,8 @@
 """One wedge case from its inputs in SI: the slope (face, upper surface, height, crack), the loads and the
 support held in a `WedgeSetting`, and two joint planes; geometry first (whether the wedge forms, the
-length a Barton-Bandis plane is scaled to, the face traces shotcrete shears through), then
-`analysis.analyse_wedges`. And what drives a wedge: the driving force split by load.
+length a Barton-Bandis plane is scaled to, the face traces shotcrete shears through), then on that one
+geometry the loads (`analysis.wedge_loads`) and the limit equilibrium (`mechanics.wedge_factor_of_safety`),
+the steps of `analysis.analyse_wedges`. And what drives a wedge: the driving force split by load.
 
     driving force   D = F . s,  F = W + U + E + A   (s the sliding direction, `mechanics`)
     its parts       -W s_z (weight), U . s (water on planes 1, 2 and the crack), E . s (seismic),
@@ -18,10 +19,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from bbmc.slope.wedge.analysis import Seismic, WedgeAnalysis, WedgeOrientations, analyse_wedges
+from bbmc.slope.wedge.analysis import Seismic, WedgeAnalysis, wedge_loads
 from bbmc.slope.wedge.geometry import TensionCrack, WedgeGeometry, wedge_geometries
 from bbmc.slope.wedge.loads import WATER_UNIT_WEIGHT
-from bbmc.slope.wedge.mechanics import PlaneStrength
+from bbmc.slope.wedge.mechanics import PlaneStrength, wedge_factor_of_safety
 from bbmc.slope.wedge.support import shotcrete_force
 from bbmc.slope.wedge.water import DRY, WaterModel
 
@@ -101,24 +102,26 @@ def analyse_case(setting: WedgeSetting, plane_1: Plane, plane_2: Plane) -> Wedge
     if setting.shotcrete is not None:
         traces = geometry.trace_face_1 + geometry.trace_face_2
         passive = passive + shotcrete_force(*setting.shotcrete, traces, geometry.normal_face)
-    orientations = WedgeOrientations(
-        plane_1.dip, plane_1.dip_direction, plane_2.dip, plane_2.dip_direction, *setting.face, *setting.upper
-    )
     strengths = (plane_1.strength(length), plane_2.strength(length))
-    analysis = analyse_wedges(
-        orientations,
-        *strengths,
-        unit_weight=setting.unit_weight,
-        height_h1=setting.height_h1,
-        height_h=setting.height_h,
-        crack=setting.crack,
-        overhanging_face=setting.overhanging_face,
-        water=setting.water,
-        water_unit_weight=setting.water_unit_weight,
-        seismic=setting.seismic,
-        forces=setting.forces,
-        passive=passive,
+    loads = wedge_loads(
+        geometry,
+        setting.unit_weight,
+        setting.water,
+        setting.water_unit_weight,
+        setting.seismic,
+        setting.forces,
+        passive,
     )
+    solution = wedge_factor_of_safety(
+        geometry.normal_1,
+        geometry.normal_2,
+        geometry.area_1,
+        geometry.area_2,
+        loads.active,
+        *strengths,
+        loads.passive,
+    )
+    analysis = WedgeAnalysis(geometry, loads, solution)
     return WedgeCase(geometry, analysis, strengths)
 
 
