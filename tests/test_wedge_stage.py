@@ -11,10 +11,14 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 
-from bbmc.slope.wedge.analysis import WedgeOrientations, analyse_wedges
+from bbmc.slope.wedge.analysis import Seismic, WedgeOrientations, analyse_wedges
+from bbmc.slope.wedge.geometry import TensionCrack
+from bbmc.slope.wedge.loads import force_vector
 from bbmc.slope.wedge.mechanics import MohrCoulomb
-from bbmc.slope.wedge.water import HoekBrayWater
+from bbmc.slope.wedge.strength import BartonBandis
+from bbmc.slope.wedge.water import HoekBrayWater, PlanePressures
 from stage_runs import CONFIGS, config_copy, refused, run_stage, set_key
 
 R = np.radians
@@ -188,3 +192,89 @@ def test_bad_input_is_one_line_naming_the_key(tmp_path, key, value, fragments):
     outcome, _ = _run(tmp_path, set_key(key, value))
     line = refused(outcome, tmp_path / "results", "wedge.yaml", *fragments)
     assert "Traceback" not in line
+
+
+CLASSIC_SI = (MohrCoulomb(23940.129, R(20)), MohrCoulomb(47880.259, R(30)))  # configs/wedge.yaml's c, phi
+
+
+def _si_classic(strength_1=CLASSIC_SI[0], strength_2=CLASSIC_SI[1], **loads) -> float:
+    """The classic wedge built here in SI from configs/wedge.yaml's numbers (a direct call of the
+    analysis, no config), with Hoek & Bray's water unless `loads` give another."""
+    orientations = WedgeOrientations(R(45), R(105), R(70), R(235), R(65), R(185), R(12), R(195))
+    loads = {"water": HoekBrayWater(), "water_unit_weight": 9817.966} | loads
+    analysis = analyse_wedges(
+        orientations, strength_1, strength_2, unit_weight=25133.994, height_h1=30.48, **loads
+    )
+    return float(analysis.factor_of_safety)
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "direct"),
+    [
+        (
+            "tension_crack",
+            {"dip_deg": 70, "dip_direction_deg": 165, "distance_m": 12.192},  # Hoek & Bray's, L = 40 ft
+            {"crack": TensionCrack(R(70), R(165), 12.192)},
+        ),
+        ("seismic", {"coefficient": 0.1, "direction": "horizontal"}, {"seismic": Seismic(0.1, "horizontal")}),
+        (
+            "forces",
+            [{"magnitude_kN": 20000, "trend_deg": 340, "plunge_deg": 10}],
+            {"forces": force_vector(2e7, R(340), R(10))},
+        ),
+        (
+            "water",
+            {"model": "pressures", "plane_1_kPa": 60, "plane_2_kPa": 40},
+            {"water": PlanePressures(6e4, 4e4)},
+        ),
+    ],
+    ids=["crack", "seismic", "force", "pressures"],
+)
+def test_the_configs_loads_are_the_analysis_loads_in_si(tmp_path, key, value, direct):
+    """Each load typed in the config (degrees, kN, kPa, m) gives the FS of the analysis called directly in
+    SI with the same load (to 1e-12: the same arithmetic once the units are turned)."""
+    outcome, folder = _run(tmp_path, set_key(key, value))
+    assert outcome.exit_code == 0, outcome.output
+    fs = pd.read_csv(folder / "wedge.csv").factor_of_safety[0]
+    assert fs == pytest.approx(_si_classic(**direct), rel=1e-12)
+
+
+def test_barton_bandis_scaled_to_the_line_of_intersection(tmp_path):
+    """field_length_m: intersection scales JRC and JCS from the lab length to the wedge's line of
+    intersection (76.5 m for the classic wedge): the FS of a direct call with that length, to 1e-12."""
+    bb = {"law": "barton_bandis", "jrc": 8, "jcs_MPa": 60, "phi_b_deg": 28, "field_length_m": "intersection"}
+
+    def edit(data):
+        data["plane_1"]["strength"] = bb
+        data["plane_2"]["strength"] = bb
+
+    outcome, folder = _run(tmp_path, edit)
+    assert outcome.exit_code == 0, outcome.output
+    wedge = pd.read_csv(folder / "wedge.csv").iloc[0]
+    length = wedge.intersection_length_m
+    strength = BartonBandis(8, 60e6, R(28), R(70), 0.1, length)
+    assert wedge.factor_of_safety == pytest.approx(
+        _si_classic(strength_1=strength, strength_2=strength), rel=1e-12
+    )
+    unscaled = BartonBandis(8, 60e6, R(28))
+    assert wedge.factor_of_safety < _si_classic(strength_1=unscaled, strength_2=unscaled)
+
+
+def test_combinations_with_a_basal_plane(tmp_path):
+    """A basal plane is paired with every set (the set as plane 1): 6 + 4 rows; the names are kept."""
+
+    def edit(data):
+        combinations = yaml.safe_load((CONFIGS / "wedge_combinations.yaml").read_text())
+        data.clear()
+        data.update(combinations)
+        data["combinations"]["basal_plane"] = {
+            "dip_deg": 30,
+            "dip_direction_deg": 200,
+            "strength": {"law": "mohr_coulomb", "friction_deg": 30},
+        }
+
+    outcome, folder = _run(tmp_path, edit)
+    assert outcome.exit_code == 0, outcome.output
+    table = pd.read_csv(folder / "combinations.csv")
+    assert len(table) == 10
+    assert sorted(table[table.plane_2 == "basal"].plane_1) == ["S1", "S2", "S3", "S4"]
