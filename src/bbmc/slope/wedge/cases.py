@@ -77,19 +77,22 @@ class WedgeCase:
 
 
 def wedge_geometry_of(setting: WedgeSetting, plane_1: Plane, plane_2: Plane) -> WedgeGeometry:
-    """The wedge's full geometry (NaN with its reason where it does not form)."""
-    return wedge_geometries(
-        plane_1.dip,
-        plane_1.dip_direction,
-        plane_2.dip,
-        plane_2.dip_direction,
-        *setting.face,
-        *setting.upper,
-        height_h1=setting.height_h1,
-        height_h=setting.height_h,
-        overhanging_face=setting.overhanging_face,
-        crack=setting.crack,
-    )
+    """The wedge's full geometry (NaN with its reason where it does not form: the arithmetic on the way
+    to those NaN, e.g. an infinite scale times 0 for a line parallel to the upper surface, is not
+    warned about)."""
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        return wedge_geometries(
+            plane_1.dip,
+            plane_1.dip_direction,
+            plane_2.dip,
+            plane_2.dip_direction,
+            *setting.face,
+            *setting.upper,
+            height_h1=setting.height_h1,
+            height_h=setting.height_h,
+            overhanging_face=setting.overhanging_face,
+            crack=setting.crack,
+        )
 
 
 def analyse_case(setting: WedgeSetting, plane_1: Plane, plane_2: Plane) -> WedgeCase:
