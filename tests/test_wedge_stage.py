@@ -93,6 +93,16 @@ def test_bolt_design_optimum_and_given_direction_agree(tmp_path):
     assert given.total_force_kN == pytest.approx(optimum.total_force_kN, rel=1e-6)
 
 
+def test_a_bolt_along_the_sliding_direction_reaches_no_target(tmp_path):
+    """Bolts drilled down the line of intersection (31/158) pull the wedge out: no force reaches FS 1.5;
+    design.csv says so with NaN, and the command in words, not with a number."""
+    outcome, folder = _run(tmp_path, set_key("design.bolt", {"trend_deg": 158, "plunge_deg": 31}))
+    assert outcome.exit_code == 0, outcome.output
+    design = pd.read_csv(folder / "design.csv").iloc[0]
+    assert np.isnan(design.total_force_kN) and np.isnan(design["count"])
+    assert "FS 1.5 not reached along trend 158, plunge 31.0" in outcome.output
+
+
 def test_bolts_in_the_config_give_the_designs_fs(tmp_path):
     """The designed bolts typed into the config's bolts: section give the FS the design reported (the
     config's bolt path and the design's check are one vector solution: to 1e-9)."""

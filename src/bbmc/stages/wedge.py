@@ -26,7 +26,7 @@ from bbmc.config import ConfigKeyError, Section
 from bbmc.io import StageResult
 from bbmc.outputs import wedge_tables
 from bbmc.slope.wedge import config as keys
-from bbmc.slope.wedge.bolting import BoltDesign, design_bolts
+from bbmc.slope.wedge.bolting import BRACKET_WEIGHTS, BoltDesign, design_bolts
 from bbmc.slope.wedge.cases import Plane, WedgeCase, WedgeSetting, analyse_case
 from bbmc.slope.wedge.combinations import Combination, combination_table
 from bbmc.slope.wedge.geometry import WedgeReason
@@ -212,7 +212,10 @@ def summary_lines(result: StageResult) -> list[str]:
     for _, d in designs.iterrows() if designs is not None else ():
         where = f"trend {d.trend_deg:03.0f}, plunge {d.plunge_deg:.1f}"
         if np.isnan(d.total_force_kN):
-            lines.append(f"design ({d.bolt}, {d.form}): FS {d.target_fs:g} not reached along {where}")
+            lines.append(
+                f"design ({d.bolt}, {d.form}): FS {d.target_fs:g} not reached along {where} "
+                f"with up to {BRACKET_WEIGHTS:g} times the wedge's weight"
+            )
             continue
         lines.append(
             f"design ({d.bolt}, {d.form}): {d.total_force_kN:,.1f} kN drilled along {where}: "
