@@ -88,11 +88,12 @@ def scattered_orientations(
 
 @dataclass(frozen=True)
 class WedgeProbability:
-    """Per sample the FS (NaN where the wedge does not form) and the `WedgeReason` code; the counts and
-    the two probabilities (module docstring)."""
+    """Per sample the FS (NaN where the wedge does not form), the `WedgeReason` code and the
+    `mechanics.SlidingMode` code; the counts and the two probabilities (module docstring)."""
 
     factor_of_safety: Array
     reason: NDArray[np.int8]
+    mode: NDArray[np.int8]
 
     @property
     def samples(self) -> int:
@@ -129,6 +130,9 @@ def wedge_probability(
 ) -> WedgeProbability:
     """The FS of every sampled wedge (`orientations` and the strengths and `loads` arrays over the
     samples, as `analysis.analyse_wedges` takes them: unit_weight, height_h1 or height_h, water, seismic,
-    ...) by the compiled fast path (no tension crack), and the probabilities over them."""
+    ...) by the compiled fast path (no tension crack), and the probabilities over them; fixed
+    orientations with drawn strengths give every sample the one geometry."""
     analysis = analyse_wedges(orientations, strength_1, strength_2, essentials_only=True, **loads)
-    return WedgeProbability(analysis.factor_of_safety, analysis.geometry.reason)
+    fs = np.asarray(analysis.factor_of_safety)
+    reason, mode = (np.broadcast_to(a, fs.shape) for a in (analysis.geometry.reason, analysis.solution.mode))
+    return WedgeProbability(fs, reason, mode)
