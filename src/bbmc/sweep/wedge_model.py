@@ -38,11 +38,14 @@ from bbmc.sweep.statistics import clopper_pearson_interval
 REASON = "wedge_reason"
 MODE = "sliding_mode"
 PLANES = ("plane_1", "plane_2")
+# Texts indexed by WedgeReason and SlidingMode codes (object arrays: a batch's columns share the strings).
 REASON_ERRORS = np.array(
-    ["" if r == WedgeReason.FORMED else f"the wedge does not form: {REASON_TEXT[r]}" for r in WedgeReason]
-)  # indexed by WedgeReason code
-REASON_NAMES = np.array([r.name.lower() for r in WedgeReason])
-MODE_NAMES = np.array([m.name.lower() for m in SlidingMode])
+    ["" if r == WedgeReason.FORMED else f"the wedge does not form: {REASON_TEXT[r]}" for r in WedgeReason],
+    dtype=object,
+)
+REASON_NAMES = np.array([r.name.lower() for r in WedgeReason], dtype=object)
+MODE_NAMES = np.array([m.name.lower() for m in SlidingMode], dtype=object)
+OUTCOMES = np.array([INVALID, VALID, FAILED_RUN], dtype=object)  # by formed + (formed, FS infinite)
 DRAWN = [f"{plane}.{key}_drawn" for plane in PLANES for key in ("dip_deg", "dip_direction_deg")]
 
 
@@ -60,13 +63,22 @@ class WedgeModel:
     def _plane(self, inputs: pd.DataFrame, plane: str, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
         """A plane's dips and dip directions [rad] per sample: drawn about each mean with its K if it has
         one (samples of one mean and K together), else the means themselves."""
-        means = np.stack([self._column(inputs, f"{plane}.{key}") for key in ("dip_deg", "dip_direction_deg")])
+        keys = [f"{plane}.{key}" for key in ("dip_deg", "dip_direction_deg", "fisher_k")]
+        means = np.stack([self._column(inputs, key) for key in keys[:2]])
         if self.base[plane]["fisher_k"] is None:
             return np.radians(means[0]), np.radians(means[1])
-        kappa = self._column(inputs, f"{plane}.fisher_k")
-        keys = np.vstack([means, kappa])
+        if not any(key in inputs for key in keys):  # one mean and K: one draw of the whole batch
+            scatter = self.base[plane]
+            mean = PlaneScatter(
+                math.radians(scatter["dip_deg"]),
+                math.radians(scatter["dip_direction_deg"]),
+                scatter["fisher_k"],
+            )
+            return mean.sample(len(inputs), rng)
         dip, direction = np.empty(len(inputs)), np.empty(len(inputs))
-        groups, where = np.unique(keys, axis=1, return_inverse=True)
+        groups, where = np.unique(
+            np.vstack([means, self._column(inputs, keys[2])]), axis=1, return_inverse=True
+        )
         for g, (mean_dip, mean_direction, k) in enumerate(groups.T):
             rows = np.flatnonzero(where.ravel() == g)
             scatter = PlaneScatter(math.radians(mean_dip), math.radians(mean_direction), fisher_k=k)
@@ -113,10 +125,12 @@ class WedgeModel:
         reason = result.reason
         formed = reason == WedgeReason.FORMED
         fs = result.factor_of_safety
+        infinite = formed & ~np.isfinite(fs)
         errors = REASON_ERRORS[reason]
-        errors = np.where(formed & ~np.isfinite(fs), "no driving force: FS is infinite", errors)
-        outcome = np.where(formed, np.where(np.isfinite(fs), VALID, FAILED_RUN), INVALID)
-        modes = np.where(formed, MODE_NAMES[result.mode], "")
+        errors[infinite] = "no driving force: FS is infinite"
+        outcome = OUTCOMES[formed.astype(np.int8) + infinite]
+        modes = MODE_NAMES[result.mode]
+        modes[~formed] = ""
         columns = {FS: np.where(np.isfinite(fs), fs, math.nan), MODE: modes, REASON: REASON_NAMES[reason]}
         columns |= dict(zip(DRAWN, np.degrees(drawn), strict=True))
         return pd.DataFrame({**columns, ERROR: errors, OUTCOME: outcome}, index=inputs.index)
