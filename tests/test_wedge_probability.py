@@ -14,12 +14,12 @@ from scipy import stats
 from bbmc import api
 from bbmc.config import ConfigError
 from bbmc.geometry.orientation import fisher_orientation, poles
-from bbmc.slope.wedge.analysis import WedgeOrientations
+from bbmc.slope.wedge.analysis import WedgeOrientations, analyse_wedges
 from bbmc.slope.wedge.geometry import WedgeReason, wedge_geometry
 from bbmc.slope.wedge.mechanics import MohrCoulomb, SlidingMode
 from bbmc.slope.wedge.probability import PlaneScatter, scattered_orientations, wedge_probability
 
-# Hoek & Bray's classic wedge (issue 35; limiting phi 21.6 deg) and 3DEC's sliding wedge's planes (40/130,
+# Hoek & Bray's classic wedge (issue 35; limiting phi 21.91 deg) and 3DEC's sliding wedge's planes (40/130,
 # 60/220; limiting phi 33.36 deg) on a face 70/175 under an upper surface 10/180, each with its mean phi.
 GEOMETRIES = {
     "classic": (WedgeOrientations(R(45), R(105), R(70), R(235), R(65), R(185), R(12), R(195)), 25.0),
@@ -98,6 +98,9 @@ def test_scattered_wedges_count_those_that_do_not_form_apart():
     assert result.probability_of_failure < result.probability_of_sliding
 
 
+KEYS = ("dip_deg", "dip_direction_deg")
+
+
 def _study_config(**base) -> dict:
     return {
         "name": "wedge_test",
@@ -141,6 +144,14 @@ def test_a_wedge_study_gives_pf_and_counts_the_wedges_that_do_not_form():
     assert summary["pf_all_samples_ci_low"] < summary["probability_of_failure_all_samples"]
     assert summary["pf_all_samples_ci_high"] > summary["probability_of_failure_all_samples"]
     assert "fs_at_mean_inputs" not in summary  # a scattered wedge has no one wedge at the mean
+    drawn = [np.radians(samples[f"plane_{i}.{key}_drawn"].to_numpy()) for i in (1, 2) for key in KEYS]
+    again = analyse_wedges(
+        WedgeOrientations(*drawn, R(65), R(185), R(12), R(195)),
+        *(MohrCoulomb(0.0, np.radians(samples[f"plane_{i}.friction_deg"].to_numpy())) for i in (1, 2)),
+        unit_weight=26e3,
+        height_h1=30.48,
+    )  # the full geometry: each sample's FS is the wedge it reports, to rounding
+    assert np.allclose(again.factor_of_safety, samples["factor_of_safety"], rtol=1e-9, equal_nan=True)
 
 
 def test_a_wedge_study_with_varied_means_and_the_draws_repeat():
