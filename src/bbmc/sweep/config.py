@@ -9,7 +9,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import InputFile, Section
-from bbmc.kinematics.config import FaceSection, Friction, LimitsSection, SetOrientationSection
+from bbmc.kinematics.config import Azimuth, Dip, FaceSection, Friction, LimitsSection, SetOrientationSection
 from bbmc.slope import toppling
 
 Positive = Annotated[float, Field(gt=0)]
@@ -152,6 +152,61 @@ class Kinematics(Section):
     seed: Annotated[int, Field(ge=0)] = 0
 
 
+class WedgePlane(Section):
+    """A wedge's joint plane (`bbmc.sweep.wedge_model`): its mean dip and dip direction [deg], Fisher's
+    K of its poles about the mean (none: the plane as given, or as a study's variables draw its dip and
+    dip direction), and its Mohr-Coulomb strength."""
+
+    dip_deg: Dip
+    dip_direction_deg: Azimuth
+    fisher_k: Positive | None = None
+    cohesion_kPa: Annotated[float, Field(ge=0)] = 0.0
+    friction_deg: Friction
+
+
+class WedgeSurface(Section):
+    """The slope face or the upper slope surface: dip and dip direction [deg]."""
+
+    dip_deg: Dip
+    dip_direction_deg: Azimuth
+
+
+class Wedge(Section):
+    """A wedge of two joint planes on a slope face under an upper surface (`bbmc.slope.wedge`), one
+    wedge per sample, the batch through the compiled fast path (no tension crack). The height is H1
+    (`height_h1_m`: plane 1's crest point above the toe, Swedge's "slope height referred to plane 1")
+    or the wedge's total height (`height_h_m`: the toe to the top of the line of intersection). Water
+    is Hoek & Bray's (`water_filled`: the filled fraction of its head, 0: dry); seismic a coefficient
+    along the line of intersection or horizontal along its trend. Planes with `fisher_k` are drawn
+    about their means per sample (seeded by `seed` and the batch's first sample)."""
+
+    kind: Literal["wedge"]
+    plane_1: WedgePlane
+    plane_2: WedgePlane
+    face: WedgeSurface
+    upper_surface: WedgeSurface
+    height_h1_m: Positive | None = None
+    height_h_m: Positive | None = None
+    overhanging_face: bool = False
+    unit_weight_kN_m3: Positive = 26.0
+    water_unit_weight_kN_m3: Positive = 9.81
+    water_filled: Annotated[float, Field(ge=0, le=1)] = 0.0
+    seismic_coefficient: Annotated[float, Field(ge=0, le=1)] = 0.0
+    seismic_direction: Literal["line", "horizontal"] = "line"
+    seed: Annotated[int, Field(ge=0)] = 0
+
+    @model_validator(mode="after")
+    def _one_height(self) -> Wedge:
+        if (self.height_h1_m is None) == (self.height_h_m is None):
+            raise ValueError("give exactly one of height_h1_m and height_h_m")
+        return self
+
+    @property
+    def scattered(self) -> bool:
+        """Whether a plane's orientation is drawn by Fisher's K (each sample then a wedge of its own)."""
+        return self.plane_1.fisher_k is not None or self.plane_2.fisher_k is not None
+
+
 class Variable(Section):
     """A varying input by its dotted path in the base (e.g. strength.friction_deg, or
     joint_laws.joint.friction_deg in a scene; list entries by their index) and its distribution:
@@ -233,7 +288,7 @@ class Sampling(Section):
 
 class Config(Section):
     name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_\-]+$")]
-    base: Planar | Toppling | SceneBase | Kinematics = Field(discriminator="kind")
+    base: Planar | Toppling | SceneBase | Kinematics | Wedge = Field(discriminator="kind")
     variables: list[Variable] = Field(default_factory=list)
     grid: list[GridAxis] = Field(default_factory=list)
     correlation: Correlation | None = None

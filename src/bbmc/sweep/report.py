@@ -20,6 +20,7 @@ from bbmc.sweep.kinematic_model import kinematics_summary
 from bbmc.sweep.models import ERROR, FS
 from bbmc.sweep.outcomes import COUNTS, Outcomes, first_errors
 from bbmc.sweep.ranges import Range
+from bbmc.sweep.wedge_model import wedge_summary
 
 # Unit suffixes of keys (longest first), for the unit column of a truncation's bounds in summary.csv.
 UNIT_SUFFIXES = (
@@ -128,7 +129,7 @@ def report_exclusions(
     if invalid.any():
         say(
             f"{int(invalid.sum())} of {n} samples are invalid, their own scene at fault (samples.csv, column "
-            f"error; summary.csv, invalid_sample.*); the first: {first_errors(messages[invalid], 1)[0]}"
+            f"error; summary.csv, invalid_sample* rows); the first: {first_errors(messages[invalid], 1)[0]}"
         )
     if errors.any():
         say(
@@ -167,7 +168,8 @@ def fs_result(
     grid, and the truncations), convergence (not for a grid, whose order is not a random one),
     sensitivities, the FS distribution."""
     fs = samples[FS].to_numpy(dtype=float)
-    invalid = invalid_rows(samples, outcomes, inputs)
+    wedge = config.base.kind == "wedge"  # its reasons counted, not listed sample by sample
+    invalid = wedge_summary(samples, outcomes) if wedge else invalid_rows(samples, outcomes, inputs)
     try:
         stats = statistics.failure_statistics(fs, outcomes.failed, outcomes.impossible, outcomes.invalid)
     except ValueError as error:  # fewer than two valid samples: nothing to summarise but the counts

@@ -51,7 +51,7 @@ from bbmc.scene.schema import Scene
 from bbmc.slope import safety
 from bbmc.slope.config import load_paper_slope
 from bbmc.sweep import design, figures, parameters
-from bbmc.sweep.config import Config, Kinematics, Planar, Toppling
+from bbmc.sweep.config import Config, Kinematics, Planar, Toppling, Wedge
 from bbmc.sweep.kinematic_model import KinematicsModel
 from bbmc.sweep.models import ERROR, FS, OUTCOME, PlanarModel, SceneModel, TopplingModel, get_path
 from bbmc.sweep.outcomes import IMPOSSIBLE, Outcomes, one_line
@@ -66,6 +66,7 @@ from bbmc.sweep.report import (
     truncation_rows,
 )
 from bbmc.sweep.runner import Model, run_batches, warm_engine
+from bbmc.sweep.wedge_model import WedgeModel
 
 if TYPE_CHECKING:
     from distributed import Client
@@ -95,6 +96,8 @@ def model_of(config: Config, tree: dict | None) -> Model:
         return TopplingModel(base.model_dump())
     if isinstance(base, Kinematics):
         return KinematicsModel(base.model_dump())
+    if isinstance(base, Wedge):
+        return WedgeModel(base.model_dump())
     return SceneModel(tree, str(base.scene or base.slope_config), base.kind, base.monitor)
 
 
@@ -301,7 +304,7 @@ def run(
     dask scheduler's address or a `distributed.Client`; else `workers` local processes (default every
     core). `progress` is told each batch done and each line the command prints (unit "samples")."""
     tree = (
-        None if isinstance(config.base, Planar | Toppling | Kinematics) else _scene_tree(config)
+        None if isinstance(config.base, Planar | Toppling | Kinematics | Wedge) else _scene_tree(config)
     )  # read once
     if tree is not None:
         check_scene(config, config_path, tree)
@@ -319,8 +322,14 @@ def run(
     if tree is not None:  # the block engine: compiled once per machine, not by each worker at once
         warm_engine(scheduler, where.say)
     grid = config.sampling.method == "grid"
+    scattered = isinstance(config.base, Wedge) and config.base.scattered  # no one wedge at the mean
     at_mean = None
-    if config.base.kind not in ("scene_run", "kinematics") and config.variables and not grid:
+    if (
+        config.base.kind not in ("scene_run", "kinematics")
+        and config.variables
+        and not grid
+        and not scattered
+    ):
         at_mean = fs_at_mean_inputs(model, inputs, store, where)
     checks = impossible_inputs(table, inputs.ranges)
     samples = _run_samples(model, table, checks, store, config, where)
