@@ -1,6 +1,7 @@
 """bbmc.outputs.wedge_figures and wedge_vtk on Hoek & Bray's classic wedge (issue 35): the figures are
 written; the VTK file read back has the wedge's vertices, face ids, areas and volume (by the divergence
-theorem over its triangles), with and without a tension crack; the histogram's probabilities and bins."""
+theorem over its triangles), with and without a tension crack; the histogram's probabilities and bins;
+the tables of the figures' numbers."""
 
 from __future__ import annotations
 
@@ -15,9 +16,11 @@ from bbmc.outputs.wedge_figures import (
     wedge_figure,
     wedge_net_figure,
 )
-from bbmc.outputs.wedge_vtk import enclosed_volume, write_wedge_vtu
+from bbmc.outputs.wedge_tables import force_table, fs_bins_table, vertex_table
+from bbmc.outputs.wedge_vtk import enclosed_volume, one_wedge, wedge_triangles, write_wedge_vtu
 from bbmc.slope.wedge.analysis import WedgeOrientations, analyse_wedges
 from bbmc.slope.wedge.geometry import TensionCrack, WedgeNotFormedError
+from bbmc.slope.wedge.loads import force_vector
 from bbmc.slope.wedge.mechanics import MohrCoulomb
 from bbmc.slope.wedge.support import Bolt, support_resultants
 from bbmc.slope.wedge.water import HoekBrayWater
@@ -91,3 +94,58 @@ def test_failure_probabilities_and_bins():
     edges = fs_bin_edges(np.array([0.37, 0.8, 1.3, 2.9]), bins=17, upper_quantile=1.0)
     assert np.min(np.abs(edges - 1.0)) < 1e-12
     assert edges[0] <= 0.37 and edges[-1] >= 2.9
+
+
+def test_tables_hold_the_figures_numbers():
+    """The vertex table is the geometry's vertices; each force's size, trend and plunge rebuild its
+    components through `loads.force_vector` (to 1e-9 relative; upward forces have negative plunge);
+    the FS bins count every finite FS once."""
+    bolt = Bolt(force=1.0e6, trend=R(15), plunge=R(10), count=20)
+    active, _ = support_resultants([bolt])
+    analysis = _classic(crack=CRACK, forces=active)
+    vertices = vertex_table(analysis.geometry)
+    assert vertices["vertex"].tolist() == ["O", "C1", "C2", "P", "Q", "R"]
+    np.testing.assert_allclose(vertices[["east_m", "north_m", "up_m"]], analysis.geometry.vertices)
+    forces = force_table(analysis, bolts=[bolt])
+    assert forces["symbol"].tolist() == ["W", "U1", "U2", "V", "B1", "F"]
+    rebuilt = force_vector(forces["size_kN"], R(forces["trend_deg"]), R(forces["plunge_deg"]))
+    np.testing.assert_allclose(rebuilt, forces[["east_kN", "north_kN", "up_kN"]], rtol=1e-9, atol=1e-9)
+    assert (forces.set_index("symbol").loc[["U1", "U2"], "plunge_deg"] < 0.0).all()
+    np.testing.assert_allclose(
+        forces.set_index("symbol").loc["B1", ["trend_deg", "plunge_deg"]], [15.0, 10.0]
+    )
+    fs = np.array([0.4, 0.99, 1.0, 1.7, 2.5, np.nan, np.inf])
+    bars = fs_bins_table(fs, bins=10)
+    assert (bars["failed"].sum(), bars["standing"].sum()) == (2, 3)
+
+
+@pytest.mark.parametrize("with_crack", [False, True], ids=["tetrahedron", "crack"])
+def test_triangles_close_every_random_wedge(with_crack):
+    """Over 400 random wedges (planes, face, upper surface and a crack drawn uniformly), every one that
+    forms has outward triangles whose divergence-theorem volume and areas per face equal the geometry's
+    to 1e-9 relative (the law holds over the whole range, not for the classic wedge alone)."""
+    rng = np.random.default_rng(35)
+    n = 400
+    dips = R(rng.uniform([10, 10, 50, 0], [85, 85, 89, 20], (n, 4)))
+    directions = R(rng.uniform(0, 360, (n, 4)))
+    directions[:, 2:] = R(180.0) + R(rng.uniform(-20, 20, (n, 2)))  # face and upper surface face south
+    crack = TensionCrack(R(rng.uniform(50, 89, n)), R(rng.uniform(150, 210, n)), rng.uniform(1, 30, n))
+    g = analyse_wedges(
+        WedgeOrientations(*np.column_stack([dips, directions])[:, [0, 4, 1, 5, 2, 6, 3, 7]].T),
+        *STRENGTH,
+        unit_weight=26e3,
+        height_h=50.0,
+        crack=crack if with_crack else None,
+    ).geometry
+    formed = np.flatnonzero(g.formed)
+    assert len(formed) > 20
+    for k in formed:
+        points, triangles, ids = wedge_triangles(one_wedge(g, (k,)))
+        assert enclosed_volume(points, triangles) == pytest.approx(float(g.volume[k]), rel=1e-9)
+        a, b, c = (points[triangles[:, j]] for j in range(3))
+        areas = np.linalg.norm(np.cross(b - a, c - a), axis=1) / 2.0
+        expected = {1: g.area_1, 2: g.area_2, 3: g.area_face, 4: g.area_upper, 5: g.area_crack}
+        assert set(ids.tolist()) == set(range(1, 6 if with_crack else 5))
+        for face_id in set(ids.tolist()):
+            area = expected[face_id]
+            assert areas[ids == face_id].sum() == pytest.approx(float(area[k]), rel=1e-9)

@@ -75,10 +75,11 @@ def _slope_patches(g: WedgeGeometry, size: float) -> tuple[NDArray, NDArray]:
     return np.array([toe[0], toe[1], top[1], top[0]]), np.array([top[0], top[1], far[1], far[0]])
 
 
-def _forces(
+def wedge_forces(
     analysis: WedgeAnalysis, bolts: Sequence[Bolt], index: tuple[int, ...]
 ) -> list[tuple[str, str, NDArray, str]]:
-    """The forces drawn: (symbol, name, vector [N], colour), the zero ones left out."""
+    """The forces the 3D figure draws on the wedge at `index`: (symbol, name, vector [N], colour), the
+    zero ones left out; the `bolts` drawn one by one, the rest of the support as "other" forces."""
     loads, g = analysis.loads, analysis.geometry
 
     def at(value: ArrayLike) -> NDArray:
@@ -179,7 +180,7 @@ def wedge_figure(
         Patch(facecolor=UPPER_COLOUR, alpha=0.3, edgecolor="0.4", label="upper slope surface"),
         Line2D([], [], color=LINE_COLOUR, linestyle="--", label="line of intersection"),
     ]
-    arrows, tips = _draw_forces(ax, g, _forces(analysis, bolts, index))
+    arrows, tips = _draw_forces(ax, g, wedge_forces(analysis, bolts, index))
     handles += arrows
     corners = np.vstack([points, face_patch, upper_patch, tips])
     low, high = corners.min(axis=0), corners.max(axis=0)
