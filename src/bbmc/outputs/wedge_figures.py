@@ -45,6 +45,7 @@ KN = 1.0e3  # N per kN, for the legend
 FACE_COLOURS = {1: "tab:orange", 2: "tab:green", 3: "0.8", 4: "khaki", 5: "tab:cyan"}
 FACE_ALPHAS = {1: 0.85, 2: 0.85, 3: 0.3, 4: 0.3, 5: 0.85}  # the free faces see-through: joints show
 ARROW_SHARE = 0.6  # the longest force arrow, this fraction of the line of intersection's length
+RESULTANT = "F"  # the active resultant's symbol: drawn broad and pale, under the forces it sums
 SHORTEST_ARROW = 0.08  # arrows shorter than this fraction of the longest are drawn this long, and say so
 SURROUND = 0.35  # the face and upper surface patches reach this fraction of the wedge's size beyond it
 PLANE_COLOURS = ("tab:orange", "tab:green")
@@ -102,7 +103,7 @@ def wedge_forces(
         (f"B{k + 1}", f"bolt {k + 1} ({b.form})", np.asarray(b.vector, float), "magenta")
         for k, b in enumerate(bolts)
     ]
-    drawn.append(("F", "active resultant", at(loads.active), "red"))
+    drawn.append((RESULTANT, "active resultant", at(loads.active), "red"))
     scale = max(weight, 1.0)
     return [force for force in drawn if np.linalg.norm(force[2]) > 1e-9 * scale]
 
@@ -120,10 +121,13 @@ def _draw_forces(
         lengthened = size < SHORTEST_ARROW * largest
         shaft = scale * vector * (SHORTEST_ARROW * largest / size if lengthened else 1.0)
         tips.append(g.centroid + shaft)
-        ax.text(*(g.centroid + 1.08 * shaft), symbol, color=colour, fontsize=9, fontweight="bold", zorder=5)
-        ax.quiver(*g.centroid, *shaft, color=colour, linewidth=2.0, arrow_length_ratio=0.15, zorder=4)
+        resultant = symbol == RESULTANT
+        style = {"color": colour, "linewidth": 5.0 if resultant else 2.0, "alpha": 0.5 if resultant else 1.0}
+        where = g.centroid + (1.2 if resultant else 1.08) * shaft  # F's label clear of a force along it
+        ax.text(*where, symbol, color=colour, fontsize=9, fontweight="bold", zorder=5)
+        ax.quiver(*g.centroid, *shaft, **style, arrow_length_ratio=0.15, zorder=3 if resultant else 4)
         label = f"{name} {symbol} = {size / KN:,.0f} kN" + (" (arrow lengthened)" if lengthened else "")
-        handles.append(Line2D([], [], color=colour, linewidth=2.0, label=label))
+        handles.append(Line2D([], [], **style, label=label))
     return handles, np.array(tips)
 
 
@@ -190,7 +194,8 @@ def wedge_figure(
     ax.view_init(elev=ELEVATION, azim=_view_azimuth(g, ELEVATION))
     ax.set_xlabel("east [m]")
     ax.set_ylabel("north [m]")
-    ax.set_zlabel("up [m]")
+    ax.zaxis.set_rotate_label(False)  # else the label turns with the view, upside down on the left
+    ax.set_zlabel("up [m]", rotation=90)
     fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.63, 0.5), fontsize=8, frameon=False)
     solution = analysis.solution
     mode = MODE_DESCRIPTIONS[SlidingMode(int(np.asarray(solution.mode)[index]))]
