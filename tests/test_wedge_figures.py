@@ -9,6 +9,7 @@ import meshio
 import numpy as np
 import pytest
 
+from bbmc.outputs.wedge_figure_tables import force_table, fs_bins_table, vertex_table
 from bbmc.outputs.wedge_figures import (
     failure_probabilities,
     fs_bin_edges,
@@ -16,7 +17,6 @@ from bbmc.outputs.wedge_figures import (
     wedge_figure,
     wedge_net_figure,
 )
-from bbmc.outputs.wedge_figure_tables import force_table, fs_bins_table, vertex_table
 from bbmc.outputs.wedge_vtk import enclosed_volume, one_wedge, wedge_triangles, write_wedge_vtu
 from bbmc.slope.wedge.analysis import WedgeOrientations, analyse_wedges
 from bbmc.slope.wedge.geometry import TensionCrack, WedgeNotFormedError
