@@ -327,13 +327,19 @@ def angle_between_axes(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def fisher_sample(mean: np.ndarray, kappa: float, count: int, rng: np.random.Generator) -> np.ndarray:
     """`count` unit vectors (count, 3) from Fisher's distribution of mean direction `mean` and
-    concentration `kappa` (Fisher 1953), drawn exactly: the angle theta from the mean by inverting its
-    distribution, cos theta = 1 + ln(u + (1 - u) exp(-2 kappa)) / kappa (u uniform), and an azimuth
-    about the mean uniform on 0 to 2 pi. `kappa` = inf gives the mean itself."""
+    concentration `kappa` (Fisher 1953), drawn exactly from `rng`'s uniforms (`fisher_directions`)."""
+    return fisher_directions(mean, kappa, rng.random(count), rng.random(count))
+
+
+def fisher_directions(mean: np.ndarray, kappa: float, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Unit vectors (n, 3) from Fisher's distribution of mean direction `mean` and concentration
+    `kappa` (Fisher 1953), one per pair of uniforms on [0, 1) (`u`, `v`): the angle theta from the mean
+    by inverting its distribution, cos theta = 1 + ln(u + (1 - u) exp(-2 kappa)) / kappa, and the
+    azimuth 2 pi v about the mean. `kappa` = inf gives the mean itself."""
     mean = np.asarray(mean, dtype=float) / np.linalg.norm(mean)
-    u, azimuth = rng.random(count), rng.random(count) * 2.0 * np.pi
+    u, azimuth = np.asarray(u, dtype=float), np.asarray(v, dtype=float) * 2.0 * np.pi
     if np.isinf(kappa):
-        cos_theta = np.ones(count)
+        cos_theta = np.ones(u.size)
     else:
         cos_theta = np.clip(1.0 + np.log(u + (1.0 - u) * np.exp(-2.0 * kappa)) / kappa, -1.0, 1.0)
     sin_theta = np.sqrt(1.0 - cos_theta**2)

@@ -3,10 +3,10 @@ vectorised call through the compiled fast path.
 
 Each sample's inputs are the base's values with the study's variables set at their paths
 (plane_1.friction_deg, plane_2.cohesion_kPa, plane_1.dip_deg, water_filled, seismic_coefficient, ...).
-A plane with `fisher_k` is then drawn about its (possibly varied) mean by Fisher's distribution, from a
-generator seeded by (the base's seed, the batch's first sample): a sample's draw depends on the study's
-batch_size (part of the study's key), not on the worker or the order the batches run in. Samples
-sharing a mean and K are drawn together; a mean varied per sample with a K draws sample by sample.
+A plane with `fisher_k` is then drawn about its (possibly varied) mean by Fisher's distribution, from
+the sample's own uniforms (`bbmc.sweep.streams`: a function of the base's seed and the sample's number
+only), so a sample's draw is the same whatever the batch size, the worker or the order the batches run
+in. Samples sharing a mean and K are drawn together.
 
 Outcomes (`bbmc.sweep.models`): a wedge that forms is `valid` with its FS; one that cannot form is
 `invalid`, its error the reason (`geometry.REASON_TEXT`) and its `wedge_reason` the reason's name, so
@@ -34,6 +34,7 @@ from bbmc.slope.wedge.water import HoekBrayWater
 from bbmc.sweep.models import ERROR, FAILED_RUN, FS, INVALID, OUTCOME, VALID
 from bbmc.sweep.outcomes import Outcomes
 from bbmc.sweep.statistics import clopper_pearson_interval
+from bbmc.sweep.streams import sample_uniforms
 
 REASON = "wedge_reason"
 MODE = "sliding_mode"
@@ -60,21 +61,17 @@ class WedgeModel:
         given = inputs[path].to_numpy(dtype=float) if path in inputs else get_path(self.base, path)
         return np.broadcast_to(np.asarray(given, dtype=float), (len(inputs),))
 
-    def _plane(self, inputs: pd.DataFrame, plane: str, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
-        """A plane's dips and dip directions [rad] per sample: drawn about each mean with its K if it has
-        one (samples of one mean and K together), else the means themselves."""
+    def _plane(self, inputs: pd.DataFrame, plane: str, streams: int) -> tuple[np.ndarray, ...]:
+        """A plane's dips and dip directions [rad] per sample: drawn about each sample's mean with its
+        K if it has one, from the sample's own uniforms (`bbmc.sweep.streams`, streams `streams` and
+        `streams` + 1), else the means themselves."""
         keys = [f"{plane}.{key}" for key in ("dip_deg", "dip_direction_deg", "fisher_k")]
         means = np.stack([self._column(inputs, key) for key in keys[:2]])
         if self.base[plane]["fisher_k"] is None:
             return np.radians(means[0]), np.radians(means[1])
-        if not any(key in inputs for key in keys):  # one mean and K: one draw of the whole batch
-            scatter = self.base[plane]
-            mean = PlaneScatter(
-                math.radians(scatter["dip_deg"]),
-                math.radians(scatter["dip_direction_deg"]),
-                scatter["fisher_k"],
-            )
-            return mean.sample(len(inputs), rng)
+        samples = inputs.index.to_numpy()
+        u = sample_uniforms(self.base["seed"], samples, streams)
+        v = sample_uniforms(self.base["seed"], samples, streams + 1)
         dip, direction = np.empty(len(inputs)), np.empty(len(inputs))
         groups, where = np.unique(
             np.vstack([means, self._column(inputs, keys[2])]), axis=1, return_inverse=True
@@ -82,14 +79,13 @@ class WedgeModel:
         for g, (mean_dip, mean_direction, k) in enumerate(groups.T):
             rows = np.flatnonzero(where.ravel() == g)
             scatter = PlaneScatter(math.radians(mean_dip), math.radians(mean_direction), fisher_k=k)
-            dip[rows], direction[rows] = scatter.sample(rows.size, rng)
+            dip[rows], direction[rows] = scatter.from_uniforms(u[rows], v[rows])
         return dip, direction
 
     def probability(self, inputs: pd.DataFrame) -> tuple[WedgeProbability, list[np.ndarray]]:
         """The batch's wedges (FS, reasons, sliding modes) and the drawn dips and dip directions [rad]
         (plane 1's, then plane 2's)."""
-        rng = np.random.default_rng([self.base["seed"], int(inputs.index[0])])
-        drawn = [*self._plane(inputs, "plane_1", rng), *self._plane(inputs, "plane_2", rng)]
+        drawn = [*self._plane(inputs, "plane_1", 0), *self._plane(inputs, "plane_2", 2)]
         face, upper = ([math.radians(self.base[s][k]) for k in ("dip_deg", "dip_direction_deg")]
                        for s in ("face", "upper_surface"))  # fmt: skip
         strengths = [

@@ -28,8 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.special import ndtri
 
-from bbmc.geometry.orientation import fisher_sample, plane_of_pole, poles
+from bbmc.geometry.orientation import fisher_directions, fisher_sample, plane_of_pole, poles
 from bbmc.slope.wedge.analysis import WedgeOrientations, analyse_wedges
 from bbmc.slope.wedge.geometry import WedgeReason
 from bbmc.slope.wedge.mechanics import PlaneStrength
@@ -67,6 +68,20 @@ class PlaneScatter:
             dip = self.dip + self.dip_std * rng.standard_normal(count)
             direction = self.dip_direction + self.dip_direction_std * rng.standard_normal(count)
             normals = poles(dip, direction)
+        dip_deg, direction_deg = plane_of_pole(normals)
+        return np.radians(dip_deg), np.radians(direction_deg)
+
+    def from_uniforms(self, u: Array, v: Array) -> tuple[Array, Array]:
+        """Dips and dip directions [rad] of planes drawn from this distribution by inversion of the
+        uniforms `u`, `v` on (0, 1), one plane per pair: Fisher's angle and azimuth
+        (`fisher_directions`), or the normal dip and dip direction (their quantiles)."""
+        mean = poles(np.asarray(self.dip), np.asarray(self.dip_direction))
+        if self.fisher_k is not None:
+            normals = fisher_directions(mean, float(self.fisher_k), u, v)
+        else:
+            normals = poles(
+                self.dip + self.dip_std * ndtri(u), self.dip_direction + self.dip_direction_std * ndtri(v)
+            )
         dip_deg, direction_deg = plane_of_pole(normals)
         return np.radians(dip_deg), np.radians(direction_deg)
 
