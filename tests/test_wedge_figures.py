@@ -1,7 +1,6 @@
 """bbmc.outputs.wedge_figures and wedge_vtk on Hoek & Bray's classic wedge (issue 35): the figures are
 written; the VTK file read back has the wedge's vertices, face ids, areas and volume (by the divergence
-theorem over its triangles), with and without a tension crack; the histogram's probabilities and bins;
-the tables of the figures' numbers."""
+theorem over its triangles), with and without a tension crack; the tables of the figures' numbers."""
 
 from __future__ import annotations
 
@@ -9,11 +8,8 @@ import meshio
 import numpy as np
 import pytest
 
-from bbmc.outputs.wedge_figure_tables import force_table, fs_bins_table, vertex_table
+from bbmc.outputs.wedge_figure_tables import force_table, vertex_table
 from bbmc.outputs.wedge_figures import (
-    failure_probabilities,
-    fs_bin_edges,
-    fs_histogram_figure,
     wedge_figure,
     wedge_net_figure,
 )
@@ -59,14 +55,13 @@ def test_vtu_round_trip(tmp_path, crack):
 
 
 def test_figures_are_written(tmp_path):
-    """The 3D figure (with a crack and a bolt), the net and the histogram are written as PNGs."""
+    """The 3D figure (with a crack and a bolt) and the net are written as PNGs."""
     bolt = Bolt(force=1.0e6, trend=R(15), plunge=R(10), count=20)
     active, _ = support_resultants([bolt])
     analysis = _classic(crack=CRACK, forces=active)
     figures = {
         "wedge.png": wedge_figure(analysis, bolts=[bolt], title="classic"),
         "net.png": wedge_net_figure(analysis, CLASSIC, {"plane 1": R(20), "plane 2": R(30)}),
-        "fs.png": fs_histogram_figure(np.array([0.5, 0.9, 1.2, 1.5, np.nan, np.inf])),
     }
     for name, figure in figures.items():
         figure.savefig(tmp_path / name)
@@ -84,16 +79,6 @@ def test_wedge_that_does_not_form_is_refused(tmp_path):
     with pytest.raises(WedgeNotFormedError):
         wedge_figure(analysis, index=(1,))
     write_wedge_vtu(tmp_path / "yes.vtu", analysis.geometry, index=(0,))
-
-
-def test_failure_probabilities_and_bins():
-    """By hand: FS (0.5, 0.9, 1.2, NaN, inf, 0): 3 failed of 6 samples (P_f 0.5) and of 5 wedges that
-    form (0.6); the bins' edges include 1 exactly (to rounding, 1e-12)."""
-    p_f, p_sliding, count, valid = failure_probabilities([0.5, 0.9, 1.2, np.nan, np.inf, 0.0])
-    assert (p_f, p_sliding, count, valid) == (0.5, 0.6, 6, 5)
-    edges = fs_bin_edges(np.array([0.37, 0.8, 1.3, 2.9]), bins=17, upper_quantile=1.0)
-    assert np.min(np.abs(edges - 1.0)) < 1e-12
-    assert edges[0] <= 0.37 and edges[-1] >= 2.9
 
 
 def test_tables_hold_the_figures_numbers():
@@ -114,9 +99,6 @@ def test_tables_hold_the_figures_numbers():
     np.testing.assert_allclose(
         forces.set_index("symbol").loc["B1", ["trend_deg", "plunge_deg"]], [15.0, 10.0]
     )
-    fs = np.array([0.4, 0.99, 1.0, 1.7, 2.5, np.nan, np.inf])
-    bars = fs_bins_table(fs, bins=10)
-    assert (bars["failed"].sum(), bars["standing"].sum()) == (2, 3)
 
 
 @pytest.mark.parametrize("with_crack", [False, True], ids=["tetrahedron", "crack"])

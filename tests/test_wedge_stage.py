@@ -8,11 +8,13 @@ from __future__ import annotations
 
 import math
 
+import meshio
 import numpy as np
 import pandas as pd
 import pytest
 import yaml
 
+from bbmc.outputs.wedge_vtk import enclosed_volume
 from bbmc.slope.wedge.analysis import Seismic, WedgeOrientations, analyse_wedges
 from bbmc.slope.wedge.geometry import TensionCrack
 from bbmc.slope.wedge.loads import force_vector
@@ -288,3 +290,29 @@ def test_combinations_with_a_basal_plane(tmp_path):
     table = pd.read_csv(folder / "combinations.csv")
     assert len(table) == 10
     assert sorted(table[table.plane_2 == "basal"].plane_1) == ["S1", "S2", "S3", "S4"]
+
+
+def test_the_drawn_wedge_and_its_files(tmp_path):
+    """Each run draws one wedge: the config's (wedge.png, wedge_net.png), or without one the combinations'
+    lowest-FS wedge (S2 with S3, named in the legends). vertices.csv and wedge.vtu hold that wedge:
+    the VTK file's volume (divergence theorem over its triangles) is wedge.csv's (1e-9 relative), its
+    top vertex T is at H above the toe; forces.csv's weight is wedge.csv's."""
+    outcome, folder = _run(tmp_path / "one")
+    assert outcome.exit_code == 0, outcome.output
+    for name in ("wedge.png", "wedge_net.png", "wedge.vtu", "vertices.csv", "forces.csv"):
+        assert (folder / name).stat().st_size > 0, name
+    wedge = pd.read_csv(folder / "wedge.csv").iloc[0]
+    mesh = meshio.read(folder / "wedge.vtu")
+    assert enclosed_volume(mesh.points, mesh.cells_dict["triangle"]) == pytest.approx(
+        wedge.volume_m3, rel=1e-9
+    )
+    vertices = pd.read_csv(folder / "vertices.csv").set_index("vertex")
+    assert vertices.loc["T", "up_m"] == pytest.approx(wedge.height_m, rel=1e-12)
+    forces = pd.read_csv(folder / "forces.csv").set_index("symbol")
+    assert forces.loc["W", "size_kN"] == pytest.approx(wedge.weight_kN, rel=1e-12)
+    outcome, folder = _run(tmp_path / "pairs", example="wedge_combinations")
+    assert outcome.exit_code == 0, outcome.output
+    lowest = pd.read_csv(folder / "combinations.csv").iloc[0]
+    drawn = pd.read_csv(folder / "forces.csv").set_index("symbol")
+    assert drawn.loc["W", "size_kN"] == pytest.approx(lowest.weight_kN, rel=1e-12)
+    assert (folder / "wedge.png").stat().st_size > 10_000

@@ -1,13 +1,11 @@
 """The numbers the wedge's figures show, as tables for CSV (units in the column names, as bbmc's CSVs
-carry them): the vertices and the forces of `wedge_figures.wedge_figure`, and the bins of
-`wedge_figures.fs_histogram_figure`.
+carry them): the vertices and the forces of `wedge_figures.wedge_figure`.
 
 * vertices: O (toe), C1, C2 (crest), T (top), or with a tension crack P, Q, R in T's place
   (`bbmc.slope.wedge.geometry`), east_m, north_m, up_m;
 * forces: each force drawn, its symbol, size [kN], trend and plunge [deg] (plunge downward positive, a
   force pointing up has a negative plunge: `loads.force_vector`'s convention) and components east,
   north, up [kN];
-* FS bins: each bar's edges and its counts of failed (FS < 1) and standing wedges.
 """
 
 from __future__ import annotations
@@ -16,10 +14,9 @@ from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
-from numpy.typing import ArrayLike
 
 from bbmc.geometry.orientation import trend_and_plunge, wrapped_azimuth
-from bbmc.outputs.wedge_figures import KN, fs_bin_edges, wedge_forces
+from bbmc.outputs.wedge_figures import KN, wedge_forces
 from bbmc.outputs.wedge_vtk import one_wedge
 from bbmc.slope.wedge.analysis import WedgeAnalysis
 from bbmc.slope.wedge.geometry import WedgeGeometry
@@ -53,20 +50,5 @@ def force_table(
             "east_kN": vectors[:, 0],
             "north_kN": vectors[:, 1],
             "up_kN": vectors[:, 2],
-        }
-    )
-
-
-def fs_bins_table(factor_of_safety: ArrayLike, bins: int = 60) -> pd.DataFrame:
-    """The histogram's bars: edges fs_low, fs_high [1] and the counts of failed and standing wedges."""
-    fs = np.asarray(factor_of_safety, dtype=float).ravel()
-    finite = fs[np.isfinite(fs)]
-    edges = fs_bin_edges(finite, bins)
-    return pd.DataFrame(
-        {
-            "fs_low": edges[:-1],
-            "fs_high": edges[1:],
-            "failed": np.histogram(finite[finite < 1.0], edges)[0],
-            "standing": np.histogram(finite[finite >= 1.0], edges)[0],
         }
     )

@@ -1,5 +1,6 @@
-"""Figures of a wedge: the wedge in 3D with the slope around it and the forces on it, its planes on the
-stereonet, and the histogram of FS over many samples.
+"""Figures of a wedge: the wedge in 3D with the slope around it and the forces on it, and its planes on
+the stereonet. (A wedge study's FS histogram is `bbmc sweep`'s fs_distribution.png, with P_f over the
+wedges that form; its summary.csv adds P_f over every sample, as Swedge separates them.)
 
 * `wedge_figure`: matplotlib's 3D axes (mplot3d), chosen over pyvista because the figure is a static
   PNG written headless beside the CSVs like every other bbmc figure, needs no OpenGL or extra package
@@ -11,8 +12,6 @@ stereonet, and the histogram of FS over many samples.
   intersection), their sizes in the legend. Axes east, north, up [m], equal aspect.
 * `wedge_net_figure`: the great circles of planes 1 and 2, the face and the upper surface, the line of
   intersection as a point and the friction cones for lines (`bbmc.outputs.stereonet`).
-* `fs_histogram_figure`: FS of the wedges that form, a line at FS = 1, and in the title P_f (failed
-  / samples) and the probability of sliding (failed / wedges that form), as Swedge separates them.
 """
 
 from __future__ import annotations
@@ -49,9 +48,9 @@ RESULTANT = "F"  # the active resultant's symbol: drawn broad and pale, under th
 SHORTEST_ARROW = 0.08  # arrows shorter than this fraction of the longest are drawn this long, and say so
 SURROUND = 0.35  # the face and upper surface patches reach this fraction of the wedge's size beyond it
 PLANE_COLOURS = ("tab:orange", "tab:green")
+PLANE_NAMES = ("plane 1", "plane 2")  # the joint planes' names in the legends by default
 UPPER_COLOUR = "saddlebrown"
 LINE_COLOUR = "crimson"
-TAIL_QUANTILE = 0.995  # the histogram reaches this quantile of FS; the tail beyond is counted
 ELEVATION = 20.0  # the camera above the horizontal [deg]
 
 
@@ -151,14 +150,17 @@ def wedge_figure(
     index: tuple[int, ...] = (),
     title: str = "Wedge",
     dpi: int = 150,
+    names: tuple[str, str] = PLANE_NAMES,
 ) -> Figure:
     """The wedge at `index` of `analysis` (its full geometry, not the essentials) in 3D (module
-    docstring), with the `bolts` the analysis included drawn one by one; the title names the mode and
-    FS. Raises WedgeNotFormedError where the wedge does not form."""
+    docstring), with the `bolts` the analysis included drawn one by one, its joint planes called
+    `names` in the legend; the title names the mode and FS. Raises WedgeNotFormedError where the wedge
+    does not form."""
     if not isinstance(analysis.geometry, WedgeGeometry):
         raise ValueError("analysis: the 3D figure needs the full geometry (essentials_only=False)")
     g = one_wedge(analysis.geometry, index)
     points, faces = wedge_faces(g)
+    face_names = FACE_NAMES | dict(enumerate(names, start=1))
     size = float(np.ptp(points, axis=0).max())
     fig = Figure(figsize=(11.0, 7.5), dpi=dpi)
     ax = fig.add_axes((0.04, 0.06, 0.58, 0.86), projection="3d")
@@ -176,7 +178,7 @@ def wedge_figure(
     end = g.crack_foot if g.has_crack else g.top  # the line's length within the wedge
     ax.plot(*np.stack([np.zeros(3), end]).T, color=LINE_COLOUR, linestyle="--", linewidth=1.8, zorder=3)
     handles = [
-        Patch(facecolor=FACE_COLOURS[k], alpha=FACE_ALPHAS[k], edgecolor="k", label=f"wedge: {FACE_NAMES[k]}")
+        Patch(facecolor=FACE_COLOURS[k], alpha=FACE_ALPHAS[k], edgecolor="k", label=f"wedge: {face_names[k]}")
         for k in faces
     ]
     handles += [
@@ -217,7 +219,11 @@ def _plane_text(dip: float, direction: float) -> str:
 
 
 def wedge_net(
-    ax: Axes, orientations: WedgeOrientations, line: ArrayLike, friction_angles: dict[str, float]
+    ax: Axes,
+    orientations: WedgeOrientations,
+    line: ArrayLike,
+    friction_angles: dict[str, float],
+    names: tuple[str, str] = PLANE_NAMES,
 ) -> NetDrawing:
     """On a net from `net_axes`: planes 1 and 2, the face and the upper surface as great circles (each
     angle a scalar [rad]), the line of intersection `line` (3,) (downward unit) as a point, and for
@@ -230,7 +236,7 @@ def wedge_net(
             direction,
             color=PLANE_COLOURS[k],
             linewidth=1.6,
-            label=f"plane {k + 1} {_plane_text(dip, direction)}",
+            label=f"{names[k]} {_plane_text(dip, direction)}",
         )
     plot_face(ax, Face(float(o.face_dip), float(o.face_dip_direction)))
     plot_planes(
@@ -281,6 +287,7 @@ def wedge_net_figure(
     index: tuple[int, ...] = (),
     projection: str = "equal_area",
     dpi: int = 150,
+    names: tuple[str, str] = PLANE_NAMES,
 ) -> Figure:
     """The wedge at `index`'s planes, face, upper surface, line of intersection and friction cones on a
     net (`wedge_net`), as a figure (`stereonet_figures.net_figure`)."""
@@ -292,60 +299,5 @@ def wedge_net_figure(
     )
     line = np.asarray(analysis.geometry.line)[index]
     return net_figure(
-        "Wedge planes", lambda ax: wedge_net(ax, picked, line, friction_angles), projection, dpi
+        "Wedge planes", lambda ax: wedge_net(ax, picked, line, friction_angles, names), projection, dpi
     )
-
-
-def failure_probabilities(factor_of_safety: ArrayLike) -> tuple[float, float, int, int]:
-    """P_f = failed / samples and the probability of sliding = failed / wedges that form (Swedge), with
-    the counts of samples and of wedges that form: FS NaN marks a wedge that does not form, failed is
-    FS < 1 (contact lost on both planes has FS 0 and fails)."""
-    fs = np.asarray(factor_of_safety, dtype=float).ravel()
-    formed = ~np.isnan(fs)
-    failed = int(np.count_nonzero(fs[formed] < 1.0))
-    count, valid = fs.size, int(formed.sum())
-    return failed / count, (failed / valid if valid else float("nan")), count, valid
-
-
-def fs_bin_edges(finite: NDArray, bins: int, upper_quantile: float = TAIL_QUANTILE) -> NDArray:
-    """Edges of about `bins` equal bins from the least FS to its `upper_quantile`, one edge at FS = 1 (no
-    bar straddles it)."""
-    if finite.size == 0:
-        return np.linspace(0.0, 2.0, bins + 1)
-    low, high = float(finite.min()), float(np.quantile(finite, upper_quantile))
-    width = max(high - low, 1e-6) / bins
-    return 1.0 + width * np.arange(np.floor((low - 1.0) / width), np.ceil((high - 1.0) / width) + 1.0)
-
-
-def fs_histogram_figure(
-    factor_of_safety: ArrayLike, title: str = "Wedge FS", bins: int = 60, dpi: int = 150
-) -> Figure:
-    """The histogram of FS of the wedges that form (FS NaN: not formed; FS = inf, no driving force, and
-    the tail beyond the TAIL_QUANTILE left out of the bars and counted in the note), bins with an edge
-    at FS = 1 and a line there, P_f and the probability of sliding in the title
-    (`failure_probabilities`)."""
-    fs = np.asarray(factor_of_safety, dtype=float).ravel()
-    p_f, p_sliding, count, valid = failure_probabilities(fs)
-    finite = fs[np.isfinite(fs)]
-    edges = fs_bin_edges(finite, bins)
-    fig = Figure(figsize=(7.5, 4.8), dpi=dpi)
-    ax = fig.add_axes((0.1, 0.2, 0.86, 0.68))
-    below = finite < 1.0
-    ax.hist(finite[below], bins=edges, color="tab:red", alpha=0.8, label=f"FS < 1 ({below.sum():,})")
-    ax.hist(finite[~below], bins=edges, color="tab:blue", alpha=0.8, label=f"FS ≥ 1 ({(~below).sum():,})")
-    ax.axvline(1.0, color="k", linewidth=1.2, label="FS = 1")
-    ax.set_xlim(edges[0], edges[-1])
-    ax.set_xlabel("factor of safety FS [1]")
-    ax.set_ylabel("wedges")
-    ax.legend(fontsize=8, frameon=False)
-    fig.suptitle(f"{title}: P_f = {p_f:.4f}, probability of sliding = {p_sliding:.4f}", fontsize=11)
-    beyond = int(np.count_nonzero(finite > edges[-1]))
-    fig.text(
-        0.01,
-        0.01,
-        f"{count:,} samples, {valid:,} wedges form ({count - valid:,} do not); not drawn: {beyond:,} with "
-        f"FS > {edges[-1]:.2f} and {int(np.isinf(fs).sum()):,} with no driving force (FS = ∞).\n"
-        "P_f = failed / samples; probability of sliding = failed / wedges that form; failed: FS < 1.",
-        fontsize=7.5,
-    )
-    return fig

@@ -23,6 +23,7 @@ face_names is not written (meshio writes numbers only): the table above is the k
 
 from __future__ import annotations
 
+import tempfile
 from dataclasses import fields, replace
 from pathlib import Path
 
@@ -101,3 +102,10 @@ def write_wedge_vtu(path: Path | str, geometry: WedgeGeometry, index: tuple[int,
     path = Path(path)
     meshio.write(path, wedge_mesh(geometry, index), binary=True)
     return path
+
+
+def wedge_vtu_bytes(geometry: WedgeGeometry, index: tuple[int, ...] = ()) -> bytes:
+    """The .vtu file of the wedge at `index` (`write_wedge_vtu`) as bytes, for a stage to write with its
+    other files at once."""
+    with tempfile.TemporaryDirectory() as folder:
+        return write_wedge_vtu(Path(folder) / "wedge.vtu", geometry, index).read_bytes()

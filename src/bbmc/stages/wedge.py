@@ -5,8 +5,10 @@ every pair of joint sets.
 The config's sections (`bbmc.slope.wedge.config`) are validated whole before any work; a deterministic
 wedge that cannot form is refused in one line naming its key and the reason (the combination table
 gives such a pair a row with its reason instead). Domain code: `bbmc.slope.wedge` (cases,
-combinations, bolting); tables: `bbmc.outputs.wedge_tables`. Writes wedge.csv, design.csv and
-combinations.csv, each where the config asks for it, into results/wedge/<name>/.
+combinations, bolting); tables: `bbmc.outputs.wedge_tables`; figures: `bbmc.outputs.wedge_figures`.
+Writes wedge.csv, design.csv and combinations.csv, each where the config asks for it, and of the drawn
+wedge (the config's, else the combinations' lowest-FS wedge) wedge.png, wedge_net.png, vertices.csv,
+forces.csv and wedge.vtu, into results/wedge/<name>/.
 """
 
 from __future__ import annotations
@@ -24,9 +26,10 @@ from pydantic import Field, model_validator
 from bbmc import units
 from bbmc.config import ConfigKeyError, Section
 from bbmc.io import StageResult
-from bbmc.outputs import wedge_tables
+from bbmc.outputs import wedge_figure_tables, wedge_figures, wedge_tables, wedge_vtk
 from bbmc.slope.wedge import config as keys
-from bbmc.slope.wedge.bolting import BRACKET_WEIGHTS, BoltDesign, design_bolts
+from bbmc.slope.wedge.analysis import WedgeOrientations
+from bbmc.slope.wedge.bolting import BRACKET_WEIGHTS, BoltDesign, design_bolts, tangent_friction
 from bbmc.slope.wedge.cases import Plane, WedgeCase, WedgeSetting, analyse_case
 from bbmc.slope.wedge.combinations import Combination, combination_table
 from bbmc.slope.wedge.geometry import WedgeReason
@@ -107,15 +110,13 @@ class Config(Section):
 
 
 @dataclass(frozen=True)
-class WedgeRun:
-    """What a run found, for its tables and figures: the setting, the deterministic wedge's case and its
-    planes (None without them), the bolt designs and the combination table."""
+class Drawn:
+    """The wedge the figures show: its title, case and the names of its planes (the config's wedge, or
+    without one the lowest-FS wedge of the combinations)."""
 
-    setting: WedgeSetting
-    case: WedgeCase | None
-    planes: tuple[Plane, Plane] | None
-    designs: list[BoltDesign]
-    combinations: list[Combination] | None
+    title: str
+    case: WedgeCase
+    names: tuple[str, str]
 
 
 def output_name(config: Config, config_path: Path) -> str:
@@ -168,26 +169,70 @@ def _designs(config: Config, slope: WedgeSetting, case: WedgeCase, planes) -> li
     return [design_bolts(case, slope, planes, d.target_fs, d.capacity_kN * keys.KN, d.form, direction)]
 
 
-def figures(run: WedgeRun) -> dict[str, Figure]:
-    """The figures of a run: the hook where the wedge's figures (3D view, stereonet, forces) join the
-    stage. None yet: they come with the figures module of issue 35 (the i35-fig branch)."""
-    return {}
+def friction_angles(drawn: Drawn) -> dict[str, float]:
+    """Each plane's friction angle [rad] for the net's friction cones: Mohr-Coulomb's, or a
+    Barton-Bandis plane's tangent angle at its mean normal stress; one cone where both are equal."""
+    solution, g = drawn.case.analysis.solution, drawn.case.geometry
+    stresses = (float(solution.normal_1 / g.area_1), float(solution.normal_2 / g.area_2))
+    angles = [
+        math.atan(tangent_friction(s, sigma)) for s, sigma in zip(drawn.case.strengths, stresses, strict=True)
+    ]
+    if math.isclose(*angles, rel_tol=1e-12):
+        return {f"{drawn.names[0]} and {drawn.names[1]}": angles[0]}
+    return dict(zip(drawn.names, angles, strict=True))
+
+
+def drawn_outputs(config: Config, drawn: Drawn) -> tuple[dict[str, Figure], dict, dict[str, bytes]]:
+    """The drawn wedge's figures (wedge.png in 3D with its forces, wedge_net.png), the tables of their
+    numbers (vertices.csv, forces.csv) and its VTK file (wedge.vtu, for ParaView)."""
+    analysis, bolts = drawn.case.analysis, [b.bolt() for b in config.bolts]
+    orientations = WedgeOrientations(
+        *(math.radians(a) for a in drawn_angles(config, drawn.names)),
+    )
+    figures = {
+        "wedge": wedge_figures.wedge_figure(analysis, bolts, title=drawn.title, names=drawn.names),
+        "wedge_net": wedge_figures.wedge_net_figure(
+            analysis, orientations, friction_angles(drawn), names=drawn.names
+        ),
+    }
+    tables = {
+        "vertices": wedge_figure_tables.vertex_table(analysis.geometry),
+        "forces": wedge_figure_tables.force_table(analysis, bolts),
+    }
+    return figures, tables, {"wedge.vtu": wedge_vtk.wedge_vtu_bytes(analysis.geometry)}
+
+
+def drawn_angles(config: Config, names: tuple[str, str]) -> list[float]:
+    """Dips and dip directions [deg] of the drawn wedge's planes, face and upper surface."""
+    joint = {"plane 1": config.plane_1, "plane 2": config.plane_2}
+    if config.combinations is not None:
+        joint |= config.combinations.sets | {"basal": config.combinations.basal_plane}
+    planes = [joint[name] for name in names] + [config.face, config.upper_surface]
+    return [angle for p in planes for angle in (p.dip_deg, p.dip_direction_deg)]
+
+
+def _lowest(slope: WedgeSetting, sets: dict[str, Plane], combos: list[Combination]) -> Drawn | None:
+    """The lowest-FS wedge of the combinations (they are sorted by FS), None where no pair forms one."""
+    if not combos or not combos[0].forms:
+        return None
+    low = combos[0]
+    case = analyse_case(slope, sets[low.plane_1], sets[low.plane_2])
+    return Drawn(f"Lowest-FS wedge, {low.plane_1} with {low.plane_2}", case, (low.plane_1, low.plane_2))
 
 
 def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
-    """Analyse the wedge and design its bolts, and the combinations, as the config asks."""
+    """Analyse the wedge and design its bolts, and the combinations, as the config asks; draw the wedge
+    (or the combinations' lowest-FS wedge) in 3D and on the net, and write it for ParaView."""
     slope = setting(config)
-    case = planes = None
-    designs: list[BoltDesign] = []
     tables = {}
+    drawn = None
     if config.plane_1 is not None:
         case, planes = _wedge(config, slope)
         tables["wedge"] = wedge_tables.wedge_table(case)
+        drawn = Drawn("Wedge", case, ("plane 1", "plane 2"))
         if config.design is not None:
             progress("designing the bolts")
-            designs = _designs(config, slope, case, planes)
-            tables["design"] = wedge_tables.design_frame(designs)
-    combos = None
+            tables["design"] = wedge_tables.design_frame(_designs(config, slope, case, planes))
     if config.combinations is not None:
         c = config.combinations
         progress(f"the wedges of {len(c.sets)} sets' pairs")
@@ -195,8 +240,11 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
         sets = {name: plane(section) for name, section in c.sets.items()}
         combos = combination_table(slope, sets, basal, c.critical_fs)
         tables["combinations"] = wedge_tables.combinations_frame(combos)
-    found = WedgeRun(slope, case, planes, designs, combos)
-    return StageResult(tables=tables, figures=figures(found))
+        drawn = drawn or _lowest(slope, sets | {"basal": basal}, combos)
+    if drawn is None:
+        return StageResult(tables=tables)
+    figures, figure_tables, files = drawn_outputs(config, drawn)
+    return StageResult(tables=tables | figure_tables, figures=figures, files=files)
 
 
 def summary_lines(result: StageResult) -> list[str]:
