@@ -49,9 +49,10 @@ joints: $(STAMP)
 kinematics: $(STAMP)
 	$(BIN)/bbmc kinematics configs/kinematics.yaml
 
-wedge: $(STAMP)
+wedge: $(STAMP) kinematics
 	$(BIN)/bbmc wedge configs/wedge.yaml
 	$(BIN)/bbmc wedge configs/wedge_combinations.yaml
+	$(BIN)/bbmc wedge configs/wedge_pit.yaml
 
 sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/planar_block.yaml

@@ -85,12 +85,14 @@ def combinations_frame(rows: Iterable[Combination]) -> pd.DataFrame:
     return pd.DataFrame([vars(row) for row in rows])
 
 
-def design_frame(rows: Iterable[BoltDesign]) -> pd.DataFrame:
-    """The bolt designs, one row each, in degrees and kN."""
+def design_frame(rows: Iterable[BoltDesign], names: tuple[str, str] = ("plane 1", "plane 2")) -> pd.DataFrame:
+    """The bolt designs of the wedge of the planes called `names`, one row each, in degrees and kN."""
     out = []
     for d in rows:
         out.append(
             {
+                "plane_1": names[0],
+                "plane_2": names[1],
                 "bolt": d.bolt,
                 "form": d.form,
                 "target_fs": d.target,

@@ -24,7 +24,8 @@ from matplotlib.figure import Figure
 from pydantic import Field, model_validator
 
 from bbmc import units
-from bbmc.config import ConfigKeyError, Section
+from bbmc.config import ConfigKeyError, InputFile, Section
+from bbmc.field.set_table import read_set_planes
 from bbmc.io import StageResult
 from bbmc.outputs import wedge_figure_tables, wedge_figures, wedge_tables, wedge_vtk
 from bbmc.slope.wedge import config as keys
@@ -50,18 +51,59 @@ REASON_KEYS = {
 
 
 class Combinations(Section):
-    """Joint sets by name (mean plane and strength) whose every pair is analysed, an optional basal plane
-    analysed with each set, and the FS below which a wedge is critical."""
+    """Joint sets by name (mean plane and strength), typed as `sets` or read from `bbmc kinematics`'
+    sets.csv (`sets_file`, each set with `strength`, or its own in `set_strength`), whose every pair is
+    analysed; an optional basal plane analysed with each set; the FS below which a wedge is critical."""
 
-    sets: dict[str, keys.JointPlane] = Field(min_length=1)
+    sets: dict[str, keys.JointPlane] = Field(default_factory=dict)
+    sets_file: InputFile | None = None
+    strength: keys.Strength | None = None
+    set_strength: dict[str, keys.Strength] = Field(default_factory=dict)
     basal_plane: keys.JointPlane | None = None
     critical_fs: keys.Positive = 1.0
 
+    def _file_planes(self) -> dict[str, keys.JointPlane]:
+        if self.sets_file is None:
+            return {}
+        found = read_set_planes(self.sets_file)
+        return {
+            name: keys.JointPlane(
+                dip_deg=p.dip_deg,
+                dip_direction_deg=p.dip_direction_deg,
+                strength=self.set_strength.get(name, self.strength),
+            )
+            for name, p in found.items()
+        }
+
+    def planes(self) -> dict[str, keys.JointPlane]:
+        """Every set: those of the file in its order, then those typed."""
+        return self._file_planes() | self.sets
+
     @model_validator(mode="after")
     def _pairs(self) -> Combinations:
-        if len(self.sets) + (self.basal_plane is not None) < 2:
+        if self.sets_file is None and (self.strength is not None or self.set_strength):
+            raise ValueError(
+                "key 'combinations.strength, set_strength': they are for sets_file's sets; give it"
+            )
+        if self.sets_file is not None:
+            found = read_set_planes(self.sets_file)
+            unknown = sorted(set(self.set_strength) - set(found))
+            if unknown:
+                raise ValueError(
+                    f"key 'combinations.set_strength.{unknown[0]}': no such set in {self.sets_file}"
+                )
+            bare = [name for name in found if name not in self.set_strength]
+            if bare and self.strength is None:
+                raise ValueError(
+                    f"key 'combinations.strength': set {bare[0]} of {self.sets_file} has no strength"
+                )
+            twice = sorted(set(found) & set(self.sets))
+            if twice:
+                raise ValueError(f"key 'combinations.sets.{twice[0]}': also a set of {self.sets_file}")
+        names = set(self.planes())
+        if len(names) + (self.basal_plane is not None) < 2:
             raise ValueError("give at least two sets, or a set and a basal plane: a wedge needs two planes")
-        if self.basal_plane is not None and "basal" in self.sets:
+        if self.basal_plane is not None and "basal" in names:
             raise ValueError("a set named 'basal': the name is the basal plane's; rename the set")
         return self
 
@@ -102,8 +144,6 @@ class Config(Section):
             raise ValueError(
                 "key 'plane_1, plane_2, combinations': give a wedge's two planes or combinations"
             )
-        if self.design is not None and self.plane_1 is None:
-            raise ValueError("key 'design': designs the bolts of the wedge of plane_1 and plane_2: give them")
         if isinstance(self.water, keys.Pressures) and self.water.crack_kPa and self.tension_crack is None:
             raise ValueError("key 'water.crack_kPa': a pressure on the tension crack needs tension_crack")
         return self
@@ -111,11 +151,12 @@ class Config(Section):
 
 @dataclass(frozen=True)
 class Drawn:
-    """The wedge the figures show: its title, case and the names of its planes (the config's wedge, or
-    without one the lowest-FS wedge of the combinations)."""
+    """The wedge the figures show and the design bolts: its title, case, planes and their names (the
+    config's wedge, or without one the lowest-FS wedge of the combinations)."""
 
     title: str
     case: WedgeCase
+    planes: tuple[Plane, Plane]
     names: tuple[str, str]
 
 
@@ -206,7 +247,7 @@ def drawn_angles(config: Config, names: tuple[str, str]) -> list[float]:
     """Dips and dip directions [deg] of the drawn wedge's planes, face and upper surface."""
     joint = {"plane 1": config.plane_1, "plane 2": config.plane_2}
     if config.combinations is not None:
-        joint |= config.combinations.sets | {"basal": config.combinations.basal_plane}
+        joint |= config.combinations.planes() | {"basal": config.combinations.basal_plane}
     planes = [joint[name] for name in names] + [config.face, config.upper_surface]
     return [angle for p in planes for angle in (p.dip_deg, p.dip_direction_deg)]
 
@@ -216,33 +257,40 @@ def _lowest(slope: WedgeSetting, sets: dict[str, Plane], combos: list[Combinatio
     if not combos or not combos[0].forms:
         return None
     low = combos[0]
-    case = analyse_case(slope, sets[low.plane_1], sets[low.plane_2])
-    return Drawn(f"Lowest-FS wedge, {low.plane_1} with {low.plane_2}", case, (low.plane_1, low.plane_2))
+    planes = (sets[low.plane_1], sets[low.plane_2])
+    case = analyse_case(slope, *planes)
+    return Drawn(
+        f"Lowest-FS wedge, {low.plane_1} with {low.plane_2}", case, planes, (low.plane_1, low.plane_2)
+    )
 
 
 def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> StageResult:
-    """Analyse the wedge and design its bolts, and the combinations, as the config asks; draw the wedge
-    (or the combinations' lowest-FS wedge) in 3D and on the net, and write it for ParaView."""
+    """Analyse the wedge and the combinations, as the config asks; design the bolts of the wedge (or
+    without one, of the combinations' lowest-FS wedge); draw that wedge in 3D and on the net, and write
+    it for ParaView."""
     slope = setting(config)
     tables = {}
     drawn = None
     if config.plane_1 is not None:
         case, planes = _wedge(config, slope)
         tables["wedge"] = wedge_tables.wedge_table(case)
-        drawn = Drawn("Wedge", case, ("plane 1", "plane 2"))
-        if config.design is not None:
-            progress("designing the bolts")
-            tables["design"] = wedge_tables.design_frame(_designs(config, slope, case, planes))
+        drawn = Drawn("Wedge", case, planes, ("plane 1", "plane 2"))
     if config.combinations is not None:
         c = config.combinations
-        progress(f"the wedges of {len(c.sets)} sets' pairs")
+        sets = {name: plane(section) for name, section in c.planes().items()}
+        progress(f"the wedges of {len(sets)} sets' pairs")
         basal = plane(c.basal_plane) if c.basal_plane is not None else None
-        sets = {name: plane(section) for name, section in c.sets.items()}
         combos = combination_table(slope, sets, basal, c.critical_fs)
         tables["combinations"] = wedge_tables.combinations_frame(combos)
         drawn = drawn or _lowest(slope, sets | {"basal": basal}, combos)
     if drawn is None:
+        if config.design is not None:
+            raise ConfigKeyError("design", "no pair of the combinations forms a wedge to design bolts for")
         return StageResult(tables=tables)
+    if config.design is not None:
+        progress(f"designing the bolts of {drawn.names[0]} with {drawn.names[1]}")
+        designs = _designs(config, slope, drawn.case, drawn.planes)
+        tables["design"] = wedge_tables.design_frame(designs, drawn.names)
     figures, figure_tables, files = drawn_outputs(config, drawn)
     return StageResult(tables=tables | figure_tables, figures=figures, files=files)
 
@@ -261,12 +309,14 @@ def summary_lines(result: StageResult) -> list[str]:
         where = f"trend {d.trend_deg:03.0f}, plunge {d.plunge_deg:.1f}"
         if np.isnan(d.total_force_kN):
             lines.append(
-                f"design ({d.bolt}, {d.form}): FS {d.target_fs:g} not reached along {where} "
+                f"design of {d.plane_1} with {d.plane_2} ({d.bolt}, {d.form}): "
+                f"FS {d.target_fs:g} not reached along {where} "
                 f"with up to {BRACKET_WEIGHTS:g} times the wedge's weight"
             )
             continue
         lines.append(
-            f"design ({d.bolt}, {d.form}): {d.total_force_kN:,.1f} kN drilled along {where}: "
+            f"design of {d.plane_1} with {d.plane_2} ({d.bolt}, {d.form}): "
+            f"{d.total_force_kN:,.1f} kN drilled along {where}: "
             f"{d['count']:.0f} bolts of {d.capacity_kN:g} kN give FS {d.factor_of_safety:.3f}"
         )
     if "combinations" in result.tables:

@@ -5,10 +5,12 @@ checked by the full vector solution with the bolts in place:
   (`design.required_bolt_force`, bracket [0, 10 W]), the count n = ceil(T / capacity), and the FS with
   n bolts of that capacity;
 * the optimum direction: the closed form of `design.optimum_bolt` (active: tan theta = G / F, passive:
-  tan theta = G, theta from the up-sliding direction), its least force and the count and FS as above.
-  The closed form takes Mohr-Coulomb planes; a Barton-Bandis plane enters with its tangent phi at its
-  own normal stress (`strength.BartonBandis.equivalent_mohr_coulomb`), the first order of the curved
-  envelope, which the check by the vector solution then measures.
+  tan theta = G, theta from the up-sliding direction), and along it the least force by the same
+  bisection, the count and FS as above. The closed form takes Mohr-Coulomb planes; a Barton-Bandis plane
+  enters with its tangent phi at its own unbolted normal stress
+  (`strength.BartonBandis.equivalent_mohr_coulomb`), the first order of the curved envelope: its
+  direction is then near, not at, the optimum, and its force (the `closed_form` FS reports what the
+  closed form expects) is replaced by the bisection's, which reaches the target with the bolts in place.
 
 SI: N, rad.
 """
@@ -77,6 +79,27 @@ def _finish(
     return BoltDesign(form=form, capacity=capacity, count=count, factor_of_safety=fs, **fields)
 
 
+def _least_force(case: WedgeCase, target: float, direction, form: str) -> float:
+    """The least total bolt force [N] along the unit `direction` that brings `case` to FS `target`, by
+    bisection on the vector solution (`design.required_bolt_force`); NaN where none in the bracket does."""
+    g, loads = case.analysis.geometry, case.analysis.loads
+    return float(
+        required_bolt_force(
+            target,
+            direction,
+            form,
+            g.normal_1,
+            g.normal_2,
+            g.area_1,
+            g.area_2,
+            loads.active,
+            *case.strengths,
+            BRACKET_WEIGHTS * loads.weight,
+            loads.passive,
+        )
+    )
+
+
 def design_bolts(
     case: WedgeCase,
     setting: WedgeSetting,
@@ -87,42 +110,25 @@ def design_bolts(
     direction: tuple[float, float] | None = None,
 ) -> BoltDesign:
     """The bolts of `capacity` [N] counted in `form` that bring the formed wedge `case` of `setting` and
-    `planes` to FS `target`: along `direction` (trend, plunge [rad]) if given, else the optimum."""
-    g, loads, solution = case.analysis.geometry, case.analysis.loads, case.analysis.solution
-    strength_1, strength_2 = case.strengths
+    `planes` to FS `target`: along `direction` (trend, plunge [rad]) if given, else along the closed
+    form's optimum direction; in both, the least force by bisection on the vector solution (for
+    Mohr-Coulomb planes it is the closed form's force; for Barton-Bandis planes the closed form's
+    tangent friction is only its first order, and the bisection's force reaches the target)."""
     if direction is not None:
         d = line_vectors(*direction)
-        force = required_bolt_force(
-            target,
-            d,
-            form,
-            g.normal_1,
-            g.normal_2,
-            g.area_1,
-            g.area_2,
-            loads.active,
-            strength_1,
-            strength_2,
-            BRACKET_WEIGHTS * loads.weight,
-            loads.passive,
-        )
         fields = {"bolt": "given", "target": target, "trend": direction[0], "plunge": direction[1]}
+        force = _least_force(case, target, d, form)
         return _finish(
-            setting,
-            planes,
-            d,
-            capacity,
-            form,
-            **fields,
-            angle=math.nan,
-            force=float(force),
-            closed_form=math.nan,
+            setting, planes, d, capacity, form, **fields, angle=math.nan, force=force, closed_form=math.nan
         )
+    g, solution = case.analysis.geometry, case.analysis.solution
+    strength_1, strength_2 = case.strengths
     sigma_1, sigma_2 = normal_stresses(solution.normal_1, solution.normal_2, g.area_1, g.area_2)
     tan_1, tan_2 = tangent_friction(strength_1, sigma_1), tangent_friction(strength_2, sigma_2)
     best = optimum_bolt(solution, g.normal_1, g.normal_2, tan_1, tan_2, form, target=target)
     trend, plunge = bolt_trend_and_plunge(best.direction)
     fields = {"bolt": "optimum", "target": target, "trend": float(trend), "plunge": float(plunge)}
+    force = _least_force(case, target, best.direction, form)
     return _finish(
         setting,
         planes,
@@ -131,6 +137,6 @@ def design_bolts(
         form,
         **fields,
         angle=float(best.angle),
-        force=float(best.force),
+        force=force,
         closed_form=float(best.factor_of_safety),
     )
