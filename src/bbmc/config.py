@@ -3,13 +3,15 @@
 A config is validated whole before a stage does any work: unknown keys (with the closest valid key
 suggested), missing keys, wrong types (strict: "3.3" is not a number) and out-of-range values all
 stop the run with `<file>: key '<dotted.key>': <what is wrong>`, the key in the user's own path. Paths
-in a config are relative to the config file's folder and must exist. A valid config's values outside
-their plausible range for rock are then warned about (`bbmc.plausibility`).
+in a config are relative to the config file's folder, `..` taken as written (configs/../results is
+results beside configs, even where configs is a link to another folder), and must exist. A valid
+config's values outside their plausible range for rock are then warned about (`bbmc.plausibility`).
 """
 
 from __future__ import annotations
 
 import difflib
+import os
 import re
 from collections.abc import Iterator
 from pathlib import Path
@@ -133,7 +135,7 @@ class Section(BaseModel):
 
 def _existing_file(value: Path, info: ValidationInfo) -> Path:
     base = Path((info.context or {}).get("base_dir", "."))
-    path = value if value.is_absolute() else base / value
+    path = value if value.is_absolute() else Path(os.path.normpath(base / value))
     if not path.is_file():
         raise ValueError(f"file not found: {path}")
     return path

@@ -99,7 +99,12 @@ def wedge_forces(
     if g.has_crack:
         drawn.insert(3, ("V", "water in the crack", at(loads.water_crack) * at(g.normal_crack), "navy"))
     drawn += [
-        (f"B{k + 1}", f"bolt {k + 1} ({b.form})", np.asarray(b.vector, float), "magenta")
+        (
+            f"B{k + 1}",
+            f"bolt {k + 1} ({b.form}, {float(b.count):g} × {float(b.force) / KN:g} kN)",
+            np.asarray(b.vector, float),
+            "magenta",
+        )
         for k, b in enumerate(bolts)
     ]
     drawn.append((RESULTANT, "active resultant", at(loads.active), "red"))

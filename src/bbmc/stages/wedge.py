@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Annotated
 
@@ -34,7 +34,7 @@ from bbmc.slope.wedge.bolting import BRACKET_WEIGHTS, BoltDesign, design_bolts, 
 from bbmc.slope.wedge.cases import Plane, WedgeCase, WedgeSetting, analyse_case
 from bbmc.slope.wedge.combinations import Combination, combination_table
 from bbmc.slope.wedge.geometry import WedgeReason
-from bbmc.slope.wedge.support import support_resultants
+from bbmc.slope.wedge.support import Bolt, support_resultants
 
 NAME = "wedge"
 
@@ -292,7 +292,25 @@ def run(config: Config, progress: Callable[[str], None] = lambda _: None) -> Sta
         designs = _designs(config, slope, drawn.case, drawn.planes)
         tables["design"] = wedge_tables.design_frame(designs, drawn.names)
     figures, figure_tables, files = drawn_outputs(config, drawn)
+    if config.design is not None:
+        figures |= _bolted_figure(config, slope, drawn, designs[0])
     return StageResult(tables=tables | figure_tables, figures=figures, files=files)
+
+
+def _bolted_figure(
+    config: Config, slope: WedgeSetting, drawn: Drawn, design: BoltDesign
+) -> dict[str, Figure]:
+    """wedge_bolted.png: the drawn wedge with the designed bolts in place (none where the target is not
+    reached)."""
+    if not np.isfinite(design.count):
+        return {}
+    bolt = Bolt(design.capacity, design.trend, design.plunge, int(design.count), design.form)
+    active, passive = support_resultants([bolt])
+    bolted = replace(slope, forces=slope.forces + active, passive=slope.passive + passive)
+    case = analyse_case(bolted, *drawn.planes)
+    bolts = [*(b.bolt() for b in config.bolts), bolt]
+    title = f"{drawn.title}, {int(design.count)} designed bolts"
+    return {"wedge_bolted": wedge_figures.wedge_figure(case.analysis, bolts, title=title, names=drawn.names)}
 
 
 def summary_lines(result: StageResult) -> list[str]:
