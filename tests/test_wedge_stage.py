@@ -316,3 +316,24 @@ def test_the_drawn_wedge_and_its_files(tmp_path):
     drawn = pd.read_csv(folder / "forces.csv").set_index("symbol")
     assert drawn.loc["W", "size_kN"] == pytest.approx(lowest.weight_kN, rel=1e-12)
     assert (folder / "wedge.png").stat().st_size > 10_000
+
+
+def test_each_planes_strength_at_its_stress_is_written(tmp_path):
+    """wedge.csv's c and phi per plane: Mohr-Coulomb's own (configs/wedge.yaml: 23.94 kPa, 20 deg; 47.88
+    kPa, 30 deg), and for a Barton-Bandis plane the tangent at its sigma_n, which rebuilds its shear
+    stress there: tau = c_t + sigma_n tan phi_t (1e-9 relative)."""
+    outcome, folder = _run(tmp_path / "mc")
+    assert outcome.exit_code == 0, outcome.output
+    w = pd.read_csv(folder / "wedge.csv").iloc[0]
+    assert (w.cohesion_1_kPa, w.friction_1_deg) == pytest.approx((23.940129, 20.0), rel=1e-12)
+    assert (w.cohesion_2_kPa, w.friction_2_deg) == pytest.approx((47.880259, 30.0), rel=1e-12)
+    bb = {"law": "barton_bandis", "jrc": 10, "jcs_MPa": 80, "phi_b_deg": 25}
+    outcome, folder = _run(tmp_path / "bb", set_key("plane_1.strength", bb))
+    assert outcome.exit_code == 0, outcome.output
+    w = pd.read_csv(folder / "wedge.csv").iloc[0]
+    sigma = w.sigma_n_1_kPa * 1e3
+    tau = BartonBandis(10.0, 80e6, R(25)).shear_stress(sigma)
+    rebuilt = w.cohesion_1_kPa * 1e3 + sigma * math.tan(R(w.friction_1_deg))
+    assert rebuilt == pytest.approx(float(tau), rel=1e-9)
+    secant = 25.0 + 10.0 * math.log10(80e6 / sigma)  # B-B's friction angle at sigma_n [deg]
+    assert w.friction_1_deg < secant and w.cohesion_1_kPa > 0.0  # the concave envelope's tangent

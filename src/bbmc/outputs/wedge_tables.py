@@ -4,7 +4,8 @@
   the crest points, T the top of the line of intersection; with a crack P, Q, R in its place), the
   areas of its faces, volume, weight, trace lengths, the line of intersection, H1 and H, Hoek & Bray's
   wedge factor K, the loads (water forces U1, U2, V; the seismic, external and support resultants as
-  vectors), the normal reactions and mean normal stresses, the driving and resisting forces, the
+  vectors), the normal reactions and mean normal stresses, each plane's c and phi at its stress
+  (`strength.tangent_strength`), the driving and resisting forces, the
   sliding direction, the mode and FS, and the driving force's parts by load;
 * `combinations_frame`: `combinations.Combination` rows;
 * `design_frame`: `bolting.BoltDesign` rows.
@@ -20,7 +21,7 @@ import pandas as pd
 from bbmc.slope.wedge.bolting import BoltDesign
 from bbmc.slope.wedge.cases import WedgeCase, driven_by, driving_parts
 from bbmc.slope.wedge.combinations import Combination
-from bbmc.slope.wedge.strength import normal_stresses
+from bbmc.slope.wedge.strength import normal_stresses, tangent_strength
 
 KN = 1e3
 
@@ -69,6 +70,10 @@ def wedge_table(case: WedgeCase) -> pd.DataFrame:
     row["normal_1_kN"], row["normal_2_kN"] = float(solution.normal_1) / KN, float(solution.normal_2) / KN
     sigma_1, sigma_2 = normal_stresses(solution.normal_1, solution.normal_2, g.area_1, g.area_2)
     row["sigma_n_1_kPa"], row["sigma_n_2_kPa"] = float(sigma_1) / KN, float(sigma_2) / KN
+    for k, (strength, sigma) in enumerate(zip(case.strengths, (sigma_1, sigma_2), strict=True), start=1):
+        tangent = tangent_strength(strength, sigma)
+        row[f"cohesion_{k}_kPa"] = float(tangent.cohesion) / KN
+        row[f"friction_{k}_deg"] = float(np.degrees(tangent.friction))
     row["driving_kN"], row["resisting_kN"] = float(solution.driving) / KN, float(solution.resisting) / KN
     _vector(row, "sliding_direction", solution.sliding_direction, "1")
     parts = driving_parts(a)

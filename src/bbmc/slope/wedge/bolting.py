@@ -26,7 +26,7 @@ from bbmc.geometry.orientation import line_vectors
 from bbmc.slope.wedge.cases import Plane, WedgeCase, WedgeSetting, analyse_case
 from bbmc.slope.wedge.design import bolt_trend_and_plunge, optimum_bolt, required_bolt_force
 from bbmc.slope.wedge.mechanics import PlaneStrength
-from bbmc.slope.wedge.strength import normal_stresses
+from bbmc.slope.wedge.strength import normal_stresses, tangent_strength
 
 BRACKET_WEIGHTS = 10.0  # the bisection's bracket, in wedge weights
 
@@ -53,9 +53,7 @@ class BoltDesign:
 
 def tangent_friction(strength: PlaneStrength, sigma_n: float) -> float:
     """tan phi of a plane: Mohr-Coulomb's, or a Barton-Bandis plane's tangent at sigma_n [Pa]."""
-    tangent = getattr(strength, "equivalent_mohr_coulomb", None)
-    friction = tangent(sigma_n).friction if tangent is not None else strength.friction
-    return float(np.tan(friction))
+    return float(np.tan(tangent_strength(strength, sigma_n).friction))
 
 
 def _with_bolts(setting: WedgeSetting, plane_1: Plane, plane_2: Plane, vector, form: str) -> float:

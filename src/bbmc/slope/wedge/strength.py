@@ -49,7 +49,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from bbmc import laws
-from bbmc.slope.wedge.mechanics import MohrCoulomb
+from bbmc.slope.wedge.mechanics import MohrCoulomb, PlaneStrength
 
 PHI_MAX = 70.0 * math.pi / 180.0  # the cap on the B-B angle, as `bbmc.laws.strength` takes it
 
@@ -115,3 +115,10 @@ def normal_stresses(normal_1: ArrayLike, normal_2: ArrayLike, area_1: ArrayLike,
         with np.errstate(invalid="ignore", divide="ignore"):
             out.append(np.where(a > 0.0, np.maximum(n, 0.0) / np.where(a > 0.0, a, 1.0), 0.0))
     return out[0], out[1]
+
+
+def tangent_strength(strength: PlaneStrength, sigma_n: ArrayLike) -> MohrCoulomb:
+    """A plane's Mohr-Coulomb c [Pa] and phi [rad] at sigma_n [Pa]: a Mohr-Coulomb plane's own, a
+    Barton-Bandis plane's tangent there (`BartonBandis.equivalent_mohr_coulomb`)."""
+    tangent = getattr(strength, "equivalent_mohr_coulomb", None)
+    return tangent(sigma_n) if tangent is not None else strength
