@@ -221,6 +221,15 @@ def test_a_batch_with_array_limits_equals_one_wedge_at_a_time():
             assert np.isnan(batch.size_scale[i]) and np.isnan(batch.volume[i])
 
 
+def test_one_wedge_under_an_array_of_limits():
+    """Scalar planes and an array of bench widths: one wedge per width, each its own height (1e-12)."""
+    widths = np.array([1.0, 5.0, 100.0])
+    g = wedge_geometries(*SYMMETRIC, height_h=H, limits=SizeLimits(bench_width=widths))
+    assert g.height_h == pytest.approx(np.minimum(widths / R2, H), rel=1e-12)
+    assert list(g.size_limit_names()) == ["bench_width", "bench_width", "height"]
+    assert g.reason.shape == (3,) and g.formed.all()
+
+
 def test_extents_of_a_cracked_wedge():
     """The symmetric wedge with a vertical crack parallel to the face at L along plane 1's upper trace:
     P and Q stand L / sqrt2 behind the crest, plane 1's upper trace is L (shorter than its face trace

@@ -288,7 +288,11 @@ def _scale(
 
 
 def _limited(
-    limits: SizeLimits | None, crack: TensionCrack | None, offset: Array, points: tuple[Array, ...], planes
+    limits: SizeLimits | None,
+    crack: TensionCrack | None,
+    offset: Array,
+    points: tuple[Array, Array, Array],
+    planes: tuple[Array, Array],
 ) -> tuple[Array, NDArray[np.int8]]:
     """The scale factor and the governing `SizeLimit` of the tetrahedra O C1 C2 T (`points`: the unit
     wedge's C1, C2, T; `planes`: the face's and upper surface's normals) at the height asked for (the
@@ -430,7 +434,8 @@ def wedge_geometries(
         measures = _truncated(measures, on_1, on_2, foot, top, crest_1, crest_2)
         crack_points = {"crack_1": on_1, "crack_2": on_2, "crack_foot": foot, "normal_crack": normal_crack}
     reason = _first_reasons(conditions)
-    shape = reason.shape
+    shape = np.broadcast_shapes(reason.shape, factor.shape)  # limits may be the only arrays
+    reason = np.broadcast_to(reason, shape)
     line = downward(unit(cross(pole_1, pole_2)))
     trend, plunge = trend_and_plunge(line)
     line_out = unit(-top)
