@@ -2,9 +2,10 @@
 
 * `wedge_table`: one row of every number of one wedge: its vertices (O the toe at the origin, C1, C2
   the crest points, T the top of the line of intersection; with a crack P, Q, R in its place), the
-  areas of its faces, volume, weight, trace lengths, the line of intersection, H1 and H, Hoek & Bray's
-  wedge factor K, the loads (water forces U1, U2, V; the seismic, external and support resultants as
-  vectors), the normal reactions and mean normal stresses, each plane's c and phi at its stress
+  areas of its faces, volume, weight, trace lengths, the line of intersection, H1 and H, the size
+  limits' scale factor and the limit that governs, the extents they limit, Hoek & Bray's wedge factor
+  K, the loads (water forces U1, U2, V; the seismic, external and support resultants as vectors), the
+  normal reactions and mean normal stresses, each plane's c and phi at its stress
   (`strength.tangent_strength`), the driving and resisting forces, the
   sliding direction, the mode and FS, and the driving force's parts by load;
 * `combinations_frame`: `combinations.Combination` rows;
@@ -21,6 +22,7 @@ import pandas as pd
 from bbmc.slope.wedge.bolting import BoltDesign
 from bbmc.slope.wedge.cases import WedgeCase, driven_by, driving_parts
 from bbmc.slope.wedge.combinations import Combination
+from bbmc.slope.wedge.size_limits import wedge_extents
 from bbmc.slope.wedge.strength import normal_stresses, tangent_strength
 
 KN = 1e3
@@ -53,6 +55,13 @@ def _geometry_columns(case: WedgeCase) -> dict:
     row["intersection_length_m"] = float(g.intersection_length)
     row["line_trend_deg"], row["line_plunge_deg"] = float(np.degrees(g.trend)), float(np.degrees(g.plunge))
     row["height_h1_m"], row["height_m"] = float(g.height_h1), float(g.height_h)
+    row["size_scale"], row["size_limited_by"] = float(g.size_scale), str(g.size_limit_names())
+    extents = wedge_extents(g.vertices, g.normal_face, g.normal_upper)
+    row["extent_along_crest_m"] = float(extents.along_crest)
+    row["extent_behind_crest_m"] = float(extents.behind_crest)
+    for k in (1, 2):
+        row[f"trace_length_{k}_m"] = float(getattr(extents, f"trace_length_plane_{k}"))
+        row[f"persistence_{k}_m"] = float(getattr(extents, f"persistence_plane_{k}"))
     row["wedge_factor_k"] = float(g.short_solution.wedge_factor)
     return row
 

@@ -4,11 +4,13 @@ every pair of joint sets.
 
 The config's sections (`bbmc.slope.wedge.config`) are validated whole before any work; a deterministic
 wedge that cannot form is refused in one line naming its key and the reason (the combination table
-gives such a pair a row with its reason instead). Domain code: `bbmc.slope.wedge` (cases,
-combinations, bolting); tables: `bbmc.outputs.wedge_tables`; figures: `bbmc.outputs.wedge_figures`.
-Writes wedge.csv, design.csv and combinations.csv, each where the config asks for it, and of the drawn
-wedge (the config's, else the combinations' lowest-FS wedge) wedge.png, wedge_net.png, vertices.csv,
-forces.csv and wedge.vtu, into results/wedge/<name>/.
+gives such a pair a row with its reason instead). Swedge's size limits (bench width, slope length, each
+plane's trace length and persistence, the volume) scale the wedge and every pair's down
+(`bbmc.slope.wedge.size_limits`). Domain code: `bbmc.slope.wedge` (cases, combinations, bolting);
+tables: `bbmc.outputs.wedge_tables`; figures: `bbmc.outputs.wedge_figures`. Writes wedge.csv,
+design.csv and combinations.csv, each where the config asks for it, and of the drawn wedge (the
+config's, else the combinations' lowest-FS wedge) wedge.png, wedge_net.png, vertices.csv, forces.csv
+and wedge.vtu, into results/wedge/<name>/.
 """
 
 from __future__ import annotations
@@ -120,6 +122,9 @@ class Config(Section):
     height_h1_m: keys.Positive | None = None  # H1: crest point of plane 1's trace above the toe
     height_m: keys.Positive | None = None  # H: top of the line of intersection above the toe
     tension_crack: keys.Crack | None = None
+    bench_width_m: keys.Positive | None = None  # Swedge's bench width: the wedge's reach behind the crest
+    slope_length_m: keys.Positive | None = None  # Swedge's slope length: the wedge's extent along the crest
+    max_volume_m3: keys.Positive | None = None  # Swedge's Scale Wedge by volume
     unit_weight_kN_m3: keys.Positive
     water: keys.Water = Field(default_factory=lambda: keys.NoWater(model="dry"))
     seismic: keys.SeismicSection | None = None
@@ -146,7 +151,20 @@ class Config(Section):
             )
         if isinstance(self.water, keys.Pressures) and self.water.crack_kPa and self.tension_crack is None:
             raise ValueError("key 'water.crack_kPa': a pressure on the tension crack needs tension_crack")
+        if self.tension_crack is not None and self._limits_size():
+            raise ValueError(
+                "key 'tension_crack': the size limits (bench_width_m, slope_length_m, max_volume_m3, a "
+                "plane's trace_length_m or persistence_m) scale the wedge, but the crack's distance_m "
+                "does not scale with it: give the crack or the limits"
+            )
         return self
+
+    def _limits_size(self) -> bool:
+        planes = [self.plane_1, self.plane_2]
+        if self.combinations is not None:
+            planes += [*self.combinations.planes().values(), self.combinations.basal_plane]
+        given = (self.bench_width_m, self.slope_length_m, self.max_volume_m3)
+        return any(v is not None for v in given) or any(p is not None and p.limits_size() for p in planes)
 
 
 @dataclass(frozen=True)
@@ -167,7 +185,7 @@ def output_name(config: Config, config_path: Path) -> str:
 
 def plane(section: keys.JointPlane) -> Plane:
     """The analysis' plane of a config's joint plane."""
-    return Plane(*section.radians(), section.plane_strength)
+    return Plane(*section.radians(), section.plane_strength, section.trace_length_m, section.persistence_m)
 
 
 def setting(config: Config) -> WedgeSetting:
@@ -190,6 +208,9 @@ def setting(config: Config) -> WedgeSetting:
         forces=external + active,
         passive=passive,
         shotcrete=(shotcrete.thickness_m, shotcrete.shear_strength_kPa * units.kPa) if shotcrete else None,
+        bench_width=config.bench_width_m,
+        slope_length=config.slope_length_m,
+        max_volume=config.max_volume_m3,
     )
 
 
@@ -322,6 +343,8 @@ def summary_lines(result: StageResult) -> list[str]:
             f"wedge: FS {w.factor_of_safety:.4f}, {w['mode']}, weight {w.weight_kN:,.1f} kN, "
             f"line of intersection {w.line_plunge_deg:.1f}/{w.line_trend_deg:03.0f}"
         )
+        if w.size_limited_by != "height":
+            lines.append(f"wedge scaled by {w.size_scale:.4f} to its {w.size_limited_by.replace('_', ' ')}")
     designs = result.tables.get("design")
     for _, d in designs.iterrows() if designs is not None else ():
         where = f"trend {d.trend_deg:03.0f}, plunge {d.plunge_deg:.1f}"

@@ -23,6 +23,7 @@ from bbmc.slope.wedge.analysis import Seismic, WedgeAnalysis, wedge_loads
 from bbmc.slope.wedge.geometry import TensionCrack, WedgeGeometry, wedge_geometries
 from bbmc.slope.wedge.loads import WATER_UNIT_WEIGHT
 from bbmc.slope.wedge.mechanics import PlaneStrength, wedge_factor_of_safety
+from bbmc.slope.wedge.size_limits import SizeLimits
 from bbmc.slope.wedge.support import shotcrete_force
 from bbmc.slope.wedge.water import DRY, WaterModel
 
@@ -32,19 +33,23 @@ LOADS = ("weight", "water", "seismic", "forces")
 @dataclass(frozen=True)
 class Plane:
     """A joint plane: dip and dip direction [rad] and its strength, given the wedge's line of
-    intersection's length [m] (a Barton-Bandis plane may be scaled to it)."""
+    intersection's length [m] (a Barton-Bandis plane may be scaled to it); optionally the largest trace
+    length and persistence [m] the joint has (Swedge's Scale Wedge, `size_limits`)."""
 
     dip: float
     dip_direction: float
     strength: Callable[[float], PlaneStrength]
+    trace_length: float | None = None
+    persistence: float | None = None
 
 
 @dataclass(frozen=True)
 class WedgeSetting:
     """Everything of a wedge case but its two planes: the face and the upper surface (dip, dip direction
     [rad]), exactly one height [m], a crack, rock gamma [N/m^3], water with gamma_w [N/m^3], seismic,
-    the external forces and active support summed (3,) [N], passive support (3,) [N], and shotcrete
-    (thickness [m], shear strength [Pa]) or None."""
+    the external forces and active support summed (3,) [N], passive support (3,) [N], shotcrete
+    (thickness [m], shear strength [Pa]) or None, and the optional size limits: bench width, slope
+    length [m] and the largest volume [m^3] (`size_limits`; the planes carry their own)."""
 
     face: tuple[float, float]
     upper: tuple[float, float]
@@ -59,6 +64,9 @@ class WedgeSetting:
     forces: NDArray = field(default_factory=lambda: np.zeros(3))
     passive: NDArray = field(default_factory=lambda: np.zeros(3))
     shotcrete: tuple[float, float] | None = None
+    bench_width: float | None = None
+    slope_length: float | None = None
+    max_volume: float | None = None
 
 
 @dataclass(frozen=True)
@@ -76,10 +84,23 @@ class WedgeCase:
         return str(self.geometry.reason_texts())
 
 
+def size_limits(setting: WedgeSetting, plane_1: Plane, plane_2: Plane) -> SizeLimits:
+    """The limits on the size of the wedge of `plane_1` and `plane_2` in `setting`."""
+    return SizeLimits(
+        bench_width=setting.bench_width,
+        slope_length=setting.slope_length,
+        trace_length_plane_1=plane_1.trace_length,
+        trace_length_plane_2=plane_2.trace_length,
+        persistence_plane_1=plane_1.persistence,
+        persistence_plane_2=plane_2.persistence,
+        volume=setting.max_volume,
+    )
+
+
 def wedge_geometry_of(setting: WedgeSetting, plane_1: Plane, plane_2: Plane) -> WedgeGeometry:
-    """The wedge's full geometry (NaN with its reason where it does not form: the arithmetic on the way
-    to those NaN, e.g. an infinite scale times 0 for a line parallel to the upper surface, is not
-    warned about)."""
+    """The wedge's full geometry, scaled down to its size limits where they are given (NaN with its
+    reason where it does not form: the arithmetic on the way to those NaN, e.g. an infinite scale
+    times 0 for a line parallel to the upper surface, is not warned about)."""
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         return wedge_geometries(
             plane_1.dip,
@@ -92,6 +113,7 @@ def wedge_geometry_of(setting: WedgeSetting, plane_1: Plane, plane_2: Plane) -> 
             height_h=setting.height_h,
             overhanging_face=setting.overhanging_face,
             crack=setting.crack,
+            limits=size_limits(setting, plane_1, plane_2),
         )
 
 

@@ -3,7 +3,8 @@ plane, where one is given) against one slope face, each analysed as `cases.analy
 slope, loads and support, in a table sorted by FS with the critical wedges named.
 
 A pair (i, j) takes the set listed first as plane 1 (H1, where given, refers to it; with a crest that is
-horizontal, face and upper surface of one dip direction, H1 is the slope height whichever set is plane 1);
+horizontal, face and upper surface of one dip direction, H1 is the slope height whichever set is plane 1;
+each set's trace length and persistence, where given, limit the size of every wedge it bounds);
 a set with the basal plane takes the set as plane 1 and the basal plane as plane 2. A pair whose wedge
 cannot form is a row with its reason and no FS, never a number. Critical: a wedge that forms with FS
 below the critical FS; the lowest FS of the table is named first.
@@ -28,7 +29,8 @@ N_PER_KN = 1e3
 class Combination:
     """One row of the table: the planes' names, whether and why the wedge forms, its line of
     intersection [deg], H1, H [m], volume [m^3], weight [kN], mode, FS, the driving force [kN] and what
-    drives it, and whether it is critical."""
+    drives it, the size limits' scale factor and the limit that governs (`size_limits`; 'height' where
+    none scales the wedge down), and whether it is critical."""
 
     plane_1: str
     plane_2: str
@@ -44,6 +46,8 @@ class Combination:
     factor_of_safety: float
     driving_kN: float
     driven_by: str
+    size_scale: float = float("nan")
+    size_limited_by: str = ""
     critical: bool = False
 
 
@@ -74,6 +78,8 @@ def _row(setting: WedgeSetting, name_1: str, name_2: str, plane_1: Plane, plane_
         float(solution.factor_of_safety),
         float(solution.driving) / N_PER_KN,
         driven_by(driving_parts(case.analysis)),
+        float(g.size_scale),
+        str(g.size_limit_names()),
     )
 
 

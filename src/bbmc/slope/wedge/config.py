@@ -94,9 +94,18 @@ class Orientation(Section):
 
 
 class JointPlane(Orientation):
-    """A joint plane (or a joint set's mean plane) and its shear strength."""
+    """A joint plane (or a joint set's mean plane), its shear strength, and optionally the largest trace
+    length and persistence [m] it has (Swedge's Scale Wedge: the wedge is scaled down until its trace
+    of this plane, the longer of the one on the face and the one on the upper surface, and its largest
+    dimension on this plane fit them; `size_limits`)."""
 
     strength: Strength
+    trace_length_m: Positive | None = None
+    persistence_m: Positive | None = None
+
+    def limits_size(self) -> bool:
+        """True where the plane limits the wedge's size."""
+        return self.trace_length_m is not None or self.persistence_m is not None
 
     def plane_strength(self, intersection_length: float) -> PlaneStrength:
         """Its strength; a B-B plane scaled to `intersection_length` [m] where it asks for it."""

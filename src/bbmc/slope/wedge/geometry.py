@@ -33,6 +33,11 @@ one side, T on the other, so that it crosses the line of intersection at R (the 
 trace of plane 2 on the upper surface at Q and that of plane 1 at P. The wedge is then O C1 C2 P Q R,
 the tetrahedron less T P Q R.
 
+Size limits (optional, `SizeLimits`, module `size_limits`): Swedge's bench width, slope length and
+Scale Wedge (each plane's trace length and persistence, the volume) scale the tetrahedron about O by
+the factor s <= 1 that brings it within every limit: the height asked for times s (`size_scale`,
+`size_limited_by` the limit that governs). Not with a tension crack (its distance L does not scale).
+
 A wedge that cannot form is never a number: its fields are NaN and `reason` holds a `WedgeReason`
 (for one wedge, `wedge_geometry` raises `WedgeNotFormedError` with the reason's text).
 """
@@ -47,6 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from bbmc.geometry.orientation import downward, pole_components, trend_and_plunge
 from bbmc.slope.wedge.short_solution import ShortSolutionAngles, short_solution_angles
+from bbmc.slope.wedge.size_limits import LIMIT_NAMES, SizeLimit, SizeLimits, size_scale
 from bbmc.slope.wedge.vectors import cross, dot, norm, triangle_area, unit
 
 Array = NDArray[np.float64]
@@ -133,7 +139,9 @@ class WedgeGeometry:
     the rock. Areas [m^2] of the wedge's faces on each plane; `volume` [m^3]; `centroid` [m].
     Trace lengths [m]: `trace_face_1` O C1, `trace_face_2` O C2, `trace_upper_1` C1 T (C1 P with a
     crack), `trace_upper_2` C2 T (C2 Q), `crest_length` C1 C2, `intersection_length` O T (O R).
-    Heights [m]: `height_h1` = C1_z and `height_h` = T_z (of the whole tetrahedron, crack or not).
+    Heights [m]: `height_h1` = C1_z and `height_h` = T_z (of the whole tetrahedron, crack or not), of
+    the wedge as built: the height asked for times `size_scale`, the factor the size limits set (1
+    without them), `size_limited_by` the `SizeLimit` that governs (HEIGHT where none scales it down).
     `short_solution`: Hoek & Bray's angles and factors of the tetrahedron (no crack).
     """
 
@@ -168,8 +176,10 @@ class WedgeGeometry:
     intersection_length: Array
     height_h1: Array
     height_h: Array
+    size_scale: Array
     short_solution: ShortSolutionAngles
     reason: NDArray[np.int8]
+    size_limited_by: NDArray[np.int8]
     has_crack: bool
 
     @property
@@ -191,6 +201,10 @@ class WedgeGeometry:
     def reason_texts(self) -> NDArray[np.str_]:
         """The reason of each wedge in words, of the batch's shape."""
         return _REASON_TEXTS[self.reason]
+
+    def size_limit_names(self) -> NDArray[np.str_]:
+        """What sets each wedge's size ('height', 'bench_width', ...), of the batch's shape."""
+        return LIMIT_NAMES[self.size_limited_by]
 
 
 def _refuse(bad: NDArray[np.bool_], key: str, what: str) -> None:
@@ -271,6 +285,25 @@ def _scale(
     with np.errstate(invalid="ignore", divide="ignore"):
         offset = height / point[..., 2]
     return offset, np.broadcast_to(below, offset.shape)
+
+
+def _limited(
+    limits: SizeLimits | None,
+    crack: TensionCrack | None,
+    offset: Array,
+    points: tuple[Array, Array, Array],
+    planes: tuple[Array, Array],
+) -> tuple[Array, NDArray[np.int8]]:
+    """The scale factor and the governing `SizeLimit` of the tetrahedra O C1 C2 T (`points`: the unit
+    wedge's C1, C2, T; `planes`: the face's and upper surface's normals) at the height asked for (the
+    offset d); 1 and HEIGHT without limits."""
+    if limits is None or not limits.any():
+        return np.ones_like(offset), np.full(offset.shape, SizeLimit.HEIGHT, dtype=np.int8)
+    _refuse(np.array(crack is not None), "limits", "size limits scale the wedge; not with a tension crack")
+    crest_1, crest_2, top = (offset[..., None] * point for point in points)
+    vertices = np.stack(np.broadcast_arrays(np.zeros_like(top), crest_1, crest_2, top), axis=-2)
+    volume = np.abs(dot(crest_1, cross(crest_2, top))) / 6.0
+    return size_scale(limits, vertices, volume, *planes)
 
 
 def _inward(normal: Array, other_vertex: Array) -> Array:
@@ -368,13 +401,15 @@ def wedge_geometries(
     height_h: ArrayLike | None = None,
     overhanging_face: ArrayLike = False,
     crack: TensionCrack | None = None,
+    limits: SizeLimits | None = None,
 ) -> WedgeGeometry:
     """The geometry of wedges [rad, m], every argument broadcast with the others (one wedge per element):
     planes 1 and 2, the face and the upper surface by dip and dip direction, and exactly one height,
     `height_h1` (H1: C1 above the toe) or `height_h` (H: T above the toe); `overhanging_face` True
     where the face overhangs (it faces its dip direction but leans out over the toe); an optional
-    tension crack. Wedges that cannot form are NaN with their `reason` (module docstring).
-    ValueError names the argument of a dip outside 0 to 90 degrees or a height <= 0."""
+    tension crack, or optional size limits (not both). Wedges that cannot form are NaN with their
+    `reason` (module docstring). ValueError names the argument of a dip outside 0 to 90 degrees, a
+    height <= 0 or a size limit <= 0."""
     dips = {"dip_1": dip_1, "dip_2": dip_2, "face_dip": face_dip, "upper_dip": upper_dip}
     directions = tuple(
         np.asarray(d, dtype=float)
@@ -384,6 +419,8 @@ def wedge_geometries(
     crest_1, crest_2, top, conditions = _unit_wedge(pole_1, pole_2, face, upper)
     offset, below = _scale(crest_1, top, height_h1, height_h)
     conditions.append((WedgeReason.HEIGHT_BELOW_TOE, below))
+    factor, limited_by = _limited(limits, crack, offset, (crest_1, crest_2, top), (face, upper))
+    offset = offset * factor
     crest_1, crest_2, top = (offset[..., None] * point for point in (crest_1, crest_2, top))
     normal_1, normal_2 = _inward(pole_1, crest_2), _inward(pole_2, crest_1)
     measures = _measures(crest_1, crest_2, top)
@@ -397,7 +434,8 @@ def wedge_geometries(
         measures = _truncated(measures, on_1, on_2, foot, top, crest_1, crest_2)
         crack_points = {"crack_1": on_1, "crack_2": on_2, "crack_foot": foot, "normal_crack": normal_crack}
     reason = _first_reasons(conditions)
-    shape = reason.shape
+    shape = np.broadcast_shapes(reason.shape, factor.shape)  # limits may be the only arrays
+    reason = np.broadcast_to(reason, shape)
     line = downward(unit(cross(pole_1, pole_2)))
     trend, plunge = trend_and_plunge(line)
     line_out = unit(-top)
@@ -421,6 +459,7 @@ def wedge_geometries(
             "normal_upper": upper,
             "height_h1": crest_1[..., 2],
             "height_h": top[..., 2],
+            "size_scale": factor,
         }
     )
     formed = reason == WedgeReason.FORMED
@@ -429,7 +468,10 @@ def wedge_geometries(
         for key, value in values.items()
     }
     short = ShortSolutionAngles(**{f.name: _masked(getattr(angles, f.name), formed) for f in fields(angles)})
-    return WedgeGeometry(**out, short_solution=short, reason=reason, has_crack=crack is not None)
+    limited_by = np.broadcast_to(limited_by, shape)
+    return WedgeGeometry(
+        **out, short_solution=short, reason=reason, size_limited_by=limited_by, has_crack=crack is not None
+    )
 
 
 def wedge_geometry(*args: float, **kwargs) -> WedgeGeometry:
