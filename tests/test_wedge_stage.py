@@ -337,3 +337,31 @@ def test_each_planes_strength_at_its_stress_is_written(tmp_path):
     assert rebuilt == pytest.approx(float(tau), rel=1e-9)
     secant = 25.0 + 10.0 * math.log10(80e6 / sigma)  # B-B's friction angle at sigma_n [deg]
     assert w.friction_1_deg < secant and w.cohesion_1_kPa > 0.0  # the concave envelope's tangent
+
+
+def test_the_papers_equivalent_mohr_coulomb_at_the_planes_own_stress_is_barton_bandis(tmp_path):
+    """`law: equivalent_mohr_coulomb` holds the B-B tangent at a given sigma_n constant (the paper's eqs
+    11-14). At each plane's own sigma_n from the B-B run (wedge.csv) the FS is the B-B FS (1e-9
+    relative: statics does not depend on the strength); taken at a tenth of that stress the constant
+    tangent over-estimates the concave envelope at the plane's real stress, and FS rises."""
+    bb = {"law": "barton_bandis", "jrc": 10, "jcs_MPa": 80, "phi_b_deg": 25, "field_length_m": "intersection"}
+
+    def both(law: str, scale: float = 1.0, sigmas=(0.0, 0.0)):
+        def edit(data):
+            for k, key in enumerate(("plane_1", "plane_2")):
+                extra = {"law": law, "sigma_n_kPa": sigmas[k] * scale} if law != "barton_bandis" else {}
+                data[key]["strength"] = bb | extra
+
+        return edit
+
+    outcome, folder = _run(tmp_path / "bb", both("barton_bandis"))
+    assert outcome.exit_code == 0, outcome.output
+    w = pd.read_csv(folder / "wedge.csv").iloc[0]
+    sigmas = (float(w.sigma_n_1_kPa), float(w.sigma_n_2_kPa))
+    fs = {}
+    for scale in (1.0, 0.1):
+        outcome, folder = _run(tmp_path / f"eq{scale}", both("equivalent_mohr_coulomb", scale, sigmas))
+        assert outcome.exit_code == 0, outcome.output
+        fs[scale] = pd.read_csv(folder / "wedge.csv").factor_of_safety[0]
+    assert fs[1.0] == pytest.approx(w.factor_of_safety, rel=1e-9)
+    assert fs[0.1] > w.factor_of_safety

@@ -80,7 +80,25 @@ class BartonBandisStrength(Section):
         )
 
 
-Strength = Annotated[MohrCoulombStrength | BartonBandisStrength, Field(discriminator="law")]
+class EquivalentMohrCoulombStrength(BartonBandisStrength):
+    """The paper's equivalent Mohr-Coulomb (its eqs 11-14, as `bbmc mc` gives it): the tangent c and phi
+    of the plane's Barton-Bandis envelope (the keys above, scale and waviness included) at the normal
+    stress `sigma_n_kPa`, then held constant, as the paper's 3DEC model holds them. At the plane's own
+    normal stress from statics (wedge.csv's sigma_n) it gives the B-B strength exactly; elsewhere the
+    constant tangent over-estimates the concave envelope (`strength.BartonBandis.equivalent_mohr_coulomb`)."""
+
+    law: Literal["equivalent_mohr_coulomb"]
+    sigma_n_kPa: Positive
+
+    def strength(self, intersection_length: float = 0.0) -> MohrCoulomb:
+        """The tangent c [Pa], phi [rad] at sigma_n_kPa of the B-B plane."""
+        tangent = super().strength(intersection_length).equivalent_mohr_coulomb(self.sigma_n_kPa * units.kPa)
+        return MohrCoulomb(float(tangent.cohesion), float(tangent.friction))
+
+
+Strength = Annotated[
+    MohrCoulombStrength | BartonBandisStrength | EquivalentMohrCoulombStrength, Field(discriminator="law")
+]
 
 
 class Orientation(Section):
