@@ -95,6 +95,25 @@ def test_bolt_design_optimum_and_given_direction_agree(tmp_path):
     assert given.total_force_kN == pytest.approx(optimum.total_force_kN, rel=1e-6)
 
 
+def test_bolt_design_for_a_given_count_gives_each_bolts_capacity(tmp_path):
+    """`count: 40` instead of `capacity_kN`: each bolt's capacity is the least force over 40, and the
+    vector solution with those bolts gives the target (to the bisection's 1e-9); capacity and count
+    together, or neither, are refused in one line naming `design`."""
+
+    def by_count(data):
+        data["design"]["count"] = 40
+        del data["design"]["capacity_kN"]
+
+    outcome, folder = _run(tmp_path / "count", by_count)
+    assert outcome.exit_code == 0, outcome.output
+    row = pd.read_csv(folder / "design.csv").iloc[0]
+    assert row["count"] == 40
+    assert row.capacity_kN == pytest.approx(row.total_force_kN / 40, rel=1e-12)
+    assert row.factor_of_safety == pytest.approx(1.5, rel=1e-9)
+    outcome, _ = _run(tmp_path / "both", set_key("design.count", 40))
+    refused(outcome, tmp_path / "both" / "results", "wedge.yaml", "design", "exactly one")
+
+
 def test_a_bolt_along_the_sliding_direction_reaches_no_target(tmp_path):
     """Bolts drilled down the line of intersection (31/158) pull the wedge out: no force reaches FS 1.5;
     design.csv says so with NaN, and the command in words, not with a number."""

@@ -228,7 +228,8 @@ def _designs(config: Config, slope: WedgeSetting, case: WedgeCase, planes) -> li
     direction = None
     if isinstance(d.bolt, keys.BoltDirection):
         direction = (math.radians(d.bolt.trend_deg), math.radians(d.bolt.plunge_deg))
-    return [design_bolts(case, slope, planes, d.target_fs, d.capacity_kN * keys.KN, d.form, direction)]
+    capacity = d.capacity_kN * keys.KN if d.capacity_kN is not None else None
+    return [design_bolts(case, slope, planes, d.target_fs, (capacity, d.count), d.form, direction)]
 
 
 def friction_angles(drawn: Drawn) -> dict[str, float]:

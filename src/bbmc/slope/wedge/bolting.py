@@ -2,8 +2,8 @@
 checked by the full vector solution with the bolts in place:
 
 * a given bolt direction: the least total force T along it by bisection on the vector solution
-  (`design.required_bolt_force`, bracket [0, 10 W]), the count n = ceil(T / capacity), and the FS with
-  n bolts of that capacity;
+  (`design.required_bolt_force`, bracket [0, 10 W]), the count n = ceil(T / capacity) of bolts of a
+  given capacity (or for a given count the capacity T / n each), and the FS with them;
 * the optimum direction: the closed form of `design.optimum_bolt` (active: tan theta = G / F, passive:
   tan theta = G, theta from the up-sliding direction), and along it the least force by the same
   bisection, the count and FS as above. The closed form takes Mohr-Coulomb planes; a Barton-Bandis plane
@@ -29,6 +29,7 @@ from bbmc.slope.wedge.mechanics import PlaneStrength
 from bbmc.slope.wedge.strength import normal_stresses, tangent_strength
 
 BRACKET_WEIGHTS = 10.0  # the bisection's bracket, in wedge weights
+BoltSizing = tuple[float | None, int | None]  # (capacity [N], count): one given, the other designed
 
 
 @dataclass(frozen=True)
@@ -66,15 +67,20 @@ def _with_bolts(setting: WedgeSetting, plane_1: Plane, plane_2: Plane, vector, f
 
 
 def _finish(
-    setting: WedgeSetting, planes: tuple[Plane, Plane], direction, capacity: float, form: str, **fields
+    setting: WedgeSetting, planes: tuple[Plane, Plane], direction, bolts: BoltSizing, form: str, **fields
 ) -> BoltDesign:
-    """The count of bolts for the force found and the FS the vector solution gives with them."""
+    """The count of bolts of the given capacity for the force found (rounded up), or the capacity of each
+    of the given count (the force shared), and the FS the vector solution gives with them."""
     force = fields["force"]
-    count = float(math.ceil(force / capacity - 1e-9)) if np.isfinite(force) else math.nan
+    capacity, count = bolts
+    if count is None:
+        count = float(math.ceil(force / capacity - 1e-9)) if np.isfinite(force) else math.nan
+    else:
+        capacity = force / count
     fs = math.nan
-    if np.isfinite(count):
+    if np.isfinite(count) and np.isfinite(capacity):
         fs = _with_bolts(setting, *planes, count * capacity * np.asarray(direction), form)
-    return BoltDesign(form=form, capacity=capacity, count=count, factor_of_safety=fs, **fields)
+    return BoltDesign(form=form, capacity=capacity, count=float(count), factor_of_safety=fs, **fields)
 
 
 def _least_force(case: WedgeCase, target: float, direction, form: str) -> float:
@@ -103,13 +109,14 @@ def design_bolts(
     setting: WedgeSetting,
     planes: tuple[Plane, Plane],
     target: float,
-    capacity: float,
+    bolts: BoltSizing,
     form: str,
     direction: tuple[float, float] | None = None,
 ) -> BoltDesign:
-    """The bolts of `capacity` [N] counted in `form` that bring the formed wedge `case` of `setting` and
-    `planes` to FS `target`: along `direction` (trend, plunge [rad]) if given, else along the closed
-    form's optimum direction; in both, the least force by bisection on the vector solution (for
+    """The bolts counted in `form` that bring the formed wedge `case` of `setting` and `planes` to FS
+    `target`, `bolts` (capacity [N], count) with one of them None: the count of bolts of that capacity,
+    or the capacity of each of that count; along `direction` (trend, plunge [rad]) if given, else along
+    the closed form's optimum direction; in both, the least force by bisection on the vector solution (for
     Mohr-Coulomb planes it is the closed form's force; for Barton-Bandis planes the closed form's
     tangent friction is only its first order, and the bisection's force reaches the target)."""
     if direction is not None:
@@ -117,7 +124,7 @@ def design_bolts(
         fields = {"bolt": "given", "target": target, "trend": direction[0], "plunge": direction[1]}
         force = _least_force(case, target, d, form)
         return _finish(
-            setting, planes, d, capacity, form, **fields, angle=math.nan, force=force, closed_form=math.nan
+            setting, planes, d, bolts, form, **fields, angle=math.nan, force=force, closed_form=math.nan
         )
     g, solution = case.analysis.geometry, case.analysis.solution
     strength_1, strength_2 = case.strengths
@@ -131,7 +138,7 @@ def design_bolts(
         setting,
         planes,
         best.direction,
-        capacity,
+        bolts,
         form,
         **fields,
         angle=float(best.angle),

@@ -259,11 +259,20 @@ class BoltDirection(Section):
 
 
 class Design(Section):
-    """The bolts for a target FS: along a given direction (the least total force by bisection on the
-    vector solution, and its count of bolts of `capacity_kN`), or `optimum` (the optimum direction and
-    its least force in closed form, `design.optimum_bolt`)."""
+    """The bolts for a target FS along a given direction or `optimum` (the closed form's,
+    `design.optimum_bolt`), the least total force by bisection on the vector solution along it
+    (`bolting`); then the count of bolts of `capacity_kN`, or the capacity of each of `count` bolts."""
 
     target_fs: Annotated[float, Field(gt=0, le=10)]
     bolt: Literal["optimum"] | BoltDirection = "optimum"
-    capacity_kN: Positive
+    capacity_kN: Positive | None = None
+    count: Annotated[int, Field(ge=1)] | None = None
     form: Literal["active", "passive"] = "active"
+
+    @model_validator(mode="after")
+    def _one_sizing(self) -> Design:
+        if (self.capacity_kN is None) == (self.count is None):
+            raise ValueError(
+                "give exactly one of capacity_kN (the count is designed) and count (the capacity is)"
+            )
+        return self
