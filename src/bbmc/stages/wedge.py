@@ -86,13 +86,8 @@ class Config(Section):
 
     @model_validator(mode="after")
     def _whole(self) -> Config:
-        if (self.height_h1_m is None) == (self.height_m is None):
-            raise ValueError("key 'height_h1_m, height_m': give exactly one")
-        if self.face.dip_deg <= self.upper_surface.dip_deg:
-            raise ValueError(
-                f"key 'face.dip_deg': the face ({self.face.dip_deg:g} deg) is not steeper than the upper "
-                f"surface ({self.upper_surface.dip_deg:g} deg)"
-            )
+        heights = {"height_h1_m": self.height_h1_m, "height_m": self.height_m}
+        keys.check_slope(self.face, self.upper_surface, heights, self.water, self.tension_crack)
         if (self.plane_1 is None) != (self.plane_2 is None):
             raise ValueError("key 'plane_1, plane_2': give both planes of the wedge, or neither")
         if self.plane_1 is None and self.combinations is None:
@@ -101,8 +96,6 @@ class Config(Section):
             )
         if self.design is not None and self.plane_1 is None:
             raise ValueError("key 'design': designs the bolts of the wedge of plane_1 and plane_2: give them")
-        if isinstance(self.water, keys.Pressures) and self.water.crack_kPa and self.tension_crack is None:
-            raise ValueError("key 'water.crack_kPa': a pressure on the tension crack needs tension_crack")
         return self
 
 
@@ -143,7 +136,7 @@ def setting(config: Config) -> WedgeSetting:
         overhanging_face=config.face.overhanging,
         crack=config.tension_crack.crack() if config.tension_crack is not None else None,
         water=water.water(),
-        water_unit_weight=getattr(water, "unit_weight_kN_m3", 9.81) * keys.KN,
+        water_unit_weight=float(keys.water_unit_weight(water)),
         seismic=config.seismic.seismic() if config.seismic is not None else None,
         forces=external + active,
         passive=passive,
