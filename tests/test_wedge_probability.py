@@ -153,7 +153,7 @@ def test_a_wedge_study_gives_pf_and_counts_the_wedges_that_do_not_form():
     drawn = [np.radians(samples[f"plane_{i}.{key}_drawn"].to_numpy()) for i in (1, 2) for key in KEYS]
     again = analyse_wedges(
         WedgeOrientations(*drawn, R(65), R(185), R(12), R(195)),
-        *(MohrCoulomb(0.0, np.radians(samples[f"plane_{i}.strength.friction_deg"].to_numpy())) for i in (1, 2)),
+        *(MohrCoulomb(0.0, R(samples[f"plane_{i}.strength.friction_deg"].to_numpy())) for i in (1, 2)),
         unit_weight=26e3,
         height_h1=30.48,
     )  # the full geometry: each sample's FS is the wedge it reports, to rounding

@@ -37,6 +37,12 @@ Plunge = Annotated[float, Field(ge=-90, le=90)]
 KN = 1e3  # N per kN
 
 
+def scaled_to_intersection(field_length: object) -> bool:
+    """Whether a B-B plane's `field_length_m` is `intersection` (it may be a length, or an array of them
+    in a sweep's sample)."""
+    return isinstance(field_length, str) and field_length == "intersection"
+
+
 class MohrCoulombStrength(Section):
     """c [kPa] and phi [deg]."""
 
@@ -71,7 +77,7 @@ class BartonBandisStrength(Section):
     def strength(self, intersection_length: float = 0.0) -> BartonBandis:
         """The plane's B-B strength; `intersection_length` [m] is used where field_length_m asks for it."""
         field = self.field_length_m
-        length = intersection_length if field == "intersection" else (0.0 if field is None else field)
+        length = intersection_length if scaled_to_intersection(field) else (0.0 if field is None else field)
         return BartonBandis(
             self.jrc,
             self.jcs_MPa * units.MPa,
@@ -109,7 +115,7 @@ class JointPlane(Orientation):
 
     def needs_length(self) -> bool:
         """True where the strength is scaled to the wedge's line of intersection."""
-        return getattr(self.strength, "field_length_m", None) == "intersection"
+        return scaled_to_intersection(getattr(self.strength, "field_length_m", None))
 
 
 class Face(Orientation):
