@@ -116,6 +116,20 @@ def _base(changes: dict) -> dict:
     return base
 
 
+def _model(base: dict, varied: dict[str, tuple[float, float]]) -> WedgeModel:
+    """The sweep's model of `base`, validated in a study varying `varied` (uniform over each range)."""
+    variables = [
+        {"path": p, "distribution": "uniform", "min": lo, "max": hi} for p, (lo, hi) in varied.items()
+    ]
+    study = {
+        "name": "t",
+        "base": base,
+        "variables": variables,
+        "sampling": {"method": "monte_carlo", "samples": 30},
+    }
+    return WedgeModel(Config.model_validate(study).base)
+
+
 @pytest.mark.parametrize("name", CASES)
 def test_each_sample_is_the_deterministic_wedge_of_its_values(name):
     """30 samples, each with its own values of the varied keys: the base's FS (fast path, or the full
@@ -123,19 +137,7 @@ def test_each_sample_is_the_deterministic_wedge_of_its_values(name):
     a wedge that does not form is so in both."""
     changes, varied = CASES[name]
     base = _base(changes)
-    model = WedgeModel(
-        Config.model_validate(
-            {
-                "name": "t",
-                "base": base,
-                "variables": [
-                    {"path": p, "distribution": "uniform", "min": lo, "max": hi}
-                    for p, (lo, hi) in varied.items()
-                ],
-                "sampling": {"method": "monte_carlo", "samples": 30},
-            }
-        ).base
-    )
+    model = _model(base, varied)
     rng = np.random.default_rng(3)
     inputs = pd.DataFrame({p: rng.uniform(lo, hi, 30) for p, (lo, hi) in varied.items()})
     out = model(inputs)
@@ -215,3 +217,18 @@ def test_a_barton_bandis_study_truncates_jrc_to_its_range_and_runs():
     assert (samples["outcome"] == "valid").all() and jrc.max() <= 20.0 and jrc.min() >= 0.0
     rising = fs.to_numpy()[np.argsort(jrc.to_numpy())]
     assert np.all(np.diff(rising) >= 0.0) and rising[-1] > 1.5 * rising[0]  # flat where phi_max caps it
+
+
+def test_a_sample_whose_values_the_law_refuses_fails_alone():
+    """phi_max + waviness varied past 90 deg on some samples: those samples fail with the law's error,
+    the others of the batch are the wedges they are alone."""
+    base = _base({"plane_1": {"strength": BB}, "plane_2": {"strength": MC}})
+    model = _model(base, {"plane_1.strength.waviness_deg": (0, 40)})
+    inputs = pd.DataFrame({"plane_1.strength.waviness_deg": np.linspace(0.0, 39.0, 40)})
+    out = model(inputs)
+    refused = inputs["plane_1.strength.waviness_deg"] + BB.get("phi_max_deg", 70.0) >= 90.0
+    assert 0 < refused.sum() < 40
+    assert (out.loc[refused, "outcome"] == FAILED_RUN).all()
+    assert out.loc[refused, "error"].str.contains("max_friction \\+ waviness").all()
+    alone = pd.concat([model(inputs.iloc[[i]]) for i in np.flatnonzero(~refused)])
+    pd.testing.assert_frame_equal(out.loc[~refused], alone, check_dtype=False)

@@ -151,9 +151,15 @@ class WedgeModel:
         return result, drawn
 
     def __call__(self, inputs: pd.DataFrame) -> pd.DataFrame:
+        """Each sample's outcome and outputs. A batch that a sample's combination of values refuses (a
+        B-B phi_max + waviness varied to 90 deg or more) is halved until only those samples fail, each
+        with the error (a sample's draws do not depend on its batch)."""
         try:
             result, drawn = self.probability(inputs)
         except ValueError as error:
+            if len(inputs) > 1:
+                half = len(inputs) // 2
+                return pd.concat([self(inputs.iloc[:half]), self(inputs.iloc[half:])])
             text = f"{type(error).__name__}: {error}"
             table = pd.DataFrame({ERROR: text, OUTCOME: FAILED_RUN}, index=inputs.index)
             return table.reindex(columns=[FS, MODE, REASON, *DRAWN, ERROR, OUTCOME])
