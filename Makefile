@@ -62,6 +62,7 @@ sweep: $(STAMP)
 	$(BIN)/bbmc sweep configs/sweeps/benched_rock_mass_crossed.yaml
 	$(BIN)/bbmc sweep configs/sweeps/pit_wall_kinematics.yaml
 	$(BIN)/bbmc sweep configs/sweeps/classic_wedge.yaml
+	$(BIN)/bbmc sweep configs/sweeps/pit_wedge.yaml
 
 test: $(STAMP)
 	$(BIN)/pytest -q

@@ -48,6 +48,21 @@ def paper_table(name: str) -> pd.DataFrame:
     return pd.read_csv(PAPER / name)
 
 
+PIT_SETS_CSV = """set,dip_deg,dip_direction_deg,pole_trend_deg,pole_plunge_deg,fisher_k,alpha95_deg
+S1,35.95,160.53,340.53,54.05,55.42,2.24
+S2,59.80,216.50,36.50,30.20,30.30,2.82
+S3,54.73,129.41,309.41,35.27,45.52,2.47
+S4,77.40,13.40,193.40,12.60,84.51,2.32
+random,,,,,,
+"""  # the pit survey's sets as `bbmc kinematics configs/kinematics.yaml` writes them (rounded)
+
+
+def _sets_table(tmp_path: Path) -> Path:
+    path = tmp_path / "sets.csv"
+    path.write_text(PIT_SETS_CSV)
+    return path
+
+
 def config_copy(tmp_path: Path, stage: str, edit) -> Path:
     """A copy of the stage's config in tmp_path with its data paths made absolute, then `edit`ed."""
     data = yaml.safe_load((CONFIGS / f"{stage}.yaml").read_text())
@@ -59,6 +74,8 @@ def config_copy(tmp_path: Path, stage: str, edit) -> Path:
             data[key] = str((CONFIGS / data[key]).resolve())
     for sheet in data.get("surveys", []):
         sheet["file"] = str((CONFIGS / sheet["file"]).resolve())
+    if "sets_file" in data.get("combinations", {}):  # a bbmc kinematics result: a copy of its form here
+        data["combinations"]["sets_file"] = str(_sets_table(tmp_path))
     edit(data)
     path = tmp_path / f"{stage}.yaml"
     path.write_text(yaml.safe_dump(data))

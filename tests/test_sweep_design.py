@@ -566,3 +566,35 @@ def test_lognormal_parameters_give_back_the_mean_and_spread_at_any_scale(mean):
     assert mu + 0.5 * sigma**2 == pytest.approx(math.log(mean), rel=1e-12)
     log_cov2 = sigma**2 + math.log(-math.expm1(-(sigma**2)))  # ln(exp(sigma^2) - 1), without overflow
     assert 0.5 * log_cov2 == pytest.approx(math.log(std / mean), rel=1e-12)
+
+
+def test_a_long_tail_of_fs_is_cut_off_the_distribution_figure_and_counted():
+    """A wedge study's FS reaches 10^4 where a few tiny wedges are held by large bolts: the figure's axes
+    stop at the 99.5 % quantile where the largest FS lies more than 3 times further off, and the
+    histogram's legend counts what is left off; a distribution without such a tail is drawn whole."""
+    rng = np.random.default_rng(0)
+    body = rng.lognormal(0.3, 0.3, 10_000)
+    tailed = np.sort(np.concatenate([body, [5e3, 1e4]]))
+    top = figures.drawn_range(tailed)
+    assert top == pytest.approx(np.quantile(tailed, 0.995))
+    assert figures.drawn_range(np.sort(body)) == body.max()
+    stats = {
+        "probability_of_failure": 0.1,
+        "pf_ci_low": 0.09,
+        "pf_ci_high": 0.11,
+        "reliability_index_pf": 1.28,
+        "reliability_index_normal": 1.0,
+        "reliability_index_lognormal": 1.0,
+        "mean_fs": 2.0,
+        "std_fs": 1.0,
+        "valid_samples": tailed.size,
+        "samples": tailed.size,
+        "invalid_samples": 0,
+        "failed_runs": 0,
+        "impossible_samples": 0,
+    }
+    figure = figures.distribution_figure(tailed, stats, dpi=50)
+    legend = [t.get_text() for t in figure.axes[0].get_legend().get_texts()]
+    beyond = int(np.count_nonzero(tailed > top))
+    assert any(f"not drawn: {beyond:,} samples" in text for text in legend)
+    assert figure.axes[1].get_xlim()[1] < 100.0

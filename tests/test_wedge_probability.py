@@ -103,21 +103,25 @@ def test_scattered_wedges_count_those_that_do_not_form_apart():
 KEYS = ("dip_deg", "dip_direction_deg")
 
 
+def _mc(friction_deg: float) -> dict:
+    return {"law": "mohr_coulomb", "friction_deg": friction_deg}
+
+
 def _study_config(**base) -> dict:
     return {
         "name": "wedge_test",
         "base": {
             "kind": "wedge",
-            "plane_1": {"dip_deg": 45, "dip_direction_deg": 105, "fisher_k": 15, "friction_deg": 20},
-            "plane_2": {"dip_deg": 70, "dip_direction_deg": 235, "fisher_k": 15, "friction_deg": 30},
+            "plane_1": {"dip_deg": 45, "dip_direction_deg": 105, "fisher_k": 15, "strength": _mc(20)},
+            "plane_2": {"dip_deg": 70, "dip_direction_deg": 235, "fisher_k": 15, "strength": _mc(30)},
             "face": {"dip_deg": 65, "dip_direction_deg": 185},
             "upper_surface": {"dip_deg": 12, "dip_direction_deg": 195},
             "height_h1_m": 30.48,
             **base,
         },
         "variables": [
-            {"path": "plane_1.friction_deg", "distribution": "normal", "mean": 25, "std": 4},
-            {"path": "plane_2.friction_deg", "distribution": "normal", "mean": 25, "std": 4},
+            {"path": "plane_1.strength.friction_deg", "distribution": "normal", "mean": 25, "std": 4},
+            {"path": "plane_2.strength.friction_deg", "distribution": "normal", "mean": 25, "std": 4},
         ],
         "sampling": {"method": "monte_carlo", "samples": 4000, "seed": 1},
         "batch_size": 1000,
@@ -149,7 +153,7 @@ def test_a_wedge_study_gives_pf_and_counts_the_wedges_that_do_not_form():
     drawn = [np.radians(samples[f"plane_{i}.{key}_drawn"].to_numpy()) for i in (1, 2) for key in KEYS]
     again = analyse_wedges(
         WedgeOrientations(*drawn, R(65), R(185), R(12), R(195)),
-        *(MohrCoulomb(0.0, np.radians(samples[f"plane_{i}.friction_deg"].to_numpy())) for i in (1, 2)),
+        *(MohrCoulomb(0.0, R(samples[f"plane_{i}.strength.friction_deg"].to_numpy())) for i in (1, 2)),
         unit_weight=26e3,
         height_h1=30.48,
     )  # the full geometry: each sample's FS is the wedge it reports, to rounding
@@ -168,8 +172,8 @@ def test_a_wedge_study_with_varied_means_and_the_draws_repeat():
 
 
 def test_a_wedge_base_needs_exactly_one_height():
-    with pytest.raises(ConfigError, match="height_h1_m and height_h_m"):
-        api.study(_study_config(height_h_m=40.0), workers=1)
+    with pytest.raises(ConfigError, match=r"key 'base.height_h1_m, base.height_m': give exactly one$"):
+        api.study(_study_config(height_m=40.0), workers=1)
 
 
 def test_a_samples_wedge_does_not_move_with_the_batch_size_or_the_workers():

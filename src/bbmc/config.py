@@ -263,6 +263,10 @@ def _describe(model: type[BaseModel], error: dict[str, Any]) -> str:
         message += f", got {error['input']!r}"
     if kind == "literal_error" and isinstance(error["input"], str):
         message += closest(error["input"], re.findall(r"'([^']*)'", context["expected"]), "values")
+    inner = re.fullmatch(r"key '([^']*)': (.*)", message, flags=re.DOTALL)
+    if key and inner:  # a section's validator naming its own keys: each under the section's path
+        key = ", ".join(f"{key}.{name}" for name in inner[1].split(", "))
+        message = inner[2]
     return f"key '{key}': {message}" if key else message
 
 

@@ -273,8 +273,8 @@ def plane_of_pole(pole: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def line_vectors(trend: np.ndarray, plunge: np.ndarray) -> np.ndarray:
     """Unit vectors (..., 3) of lines of `trend` and `plunge` (downward positive) [rad]:
-    l = (cos p sin t, cos p cos t, -sin p)."""
-    trend, plunge = np.asarray(trend, dtype=float), np.asarray(plunge, dtype=float)
+    l = (cos p sin t, cos p cos t, -sin p); the two broadcast together."""
+    trend, plunge = np.broadcast_arrays(np.asarray(trend, dtype=float), np.asarray(plunge, dtype=float))
     return np.stack(
         [np.cos(plunge) * np.sin(trend), np.cos(plunge) * np.cos(trend), -np.sin(plunge)], axis=-1
     )

@@ -15,6 +15,7 @@ and wedge.vtu, into results/wedge/<name>/.
 
 from __future__ import annotations
 
+import difflib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -52,6 +53,11 @@ REASON_KEYS = {
 }
 
 
+def _did_you_mean(name: str, names: list[str]) -> str:
+    close = difflib.get_close_matches(name, names, n=1)
+    return f" (did you mean '{close[0]}'?)" if close else f" (its sets: {', '.join(names)})"
+
+
 class Combinations(Section):
     """Joint sets by name (mean plane and strength), typed as `sets` or read from `bbmc kinematics`'
     sets.csv (`sets_file`, each set with `strength`, or its own in `set_strength`), whose every pair is
@@ -84,24 +90,21 @@ class Combinations(Section):
     @model_validator(mode="after")
     def _pairs(self) -> Combinations:
         if self.sets_file is None and (self.strength is not None or self.set_strength):
-            raise ValueError(
-                "key 'combinations.strength, set_strength': they are for sets_file's sets; give it"
-            )
+            raise ValueError("key 'strength, set_strength': they are for sets_file's sets; give it")
         if self.sets_file is not None:
             found = read_set_planes(self.sets_file)
             unknown = sorted(set(self.set_strength) - set(found))
             if unknown:
                 raise ValueError(
-                    f"key 'combinations.set_strength.{unknown[0]}': no such set in {self.sets_file}"
+                    f"key 'set_strength.{unknown[0]}': no such set in {self.sets_file}"
+                    + _did_you_mean(unknown[0], list(found))
                 )
             bare = [name for name in found if name not in self.set_strength]
             if bare and self.strength is None:
-                raise ValueError(
-                    f"key 'combinations.strength': set {bare[0]} of {self.sets_file} has no strength"
-                )
+                raise ValueError(f"key 'strength': set {bare[0]} of {self.sets_file} has no strength")
             twice = sorted(set(found) & set(self.sets))
             if twice:
-                raise ValueError(f"key 'combinations.sets.{twice[0]}': also a set of {self.sets_file}")
+                raise ValueError(f"key 'sets.{twice[0]}': also a set of {self.sets_file}")
         names = set(self.planes())
         if len(names) + (self.basal_plane is not None) < 2:
             raise ValueError("give at least two sets, or a set and a basal plane: a wedge needs two planes")
@@ -136,21 +139,14 @@ class Config(Section):
 
     @model_validator(mode="after")
     def _whole(self) -> Config:
-        if (self.height_h1_m is None) == (self.height_m is None):
-            raise ValueError("key 'height_h1_m, height_m': give exactly one")
-        if self.face.dip_deg <= self.upper_surface.dip_deg:
-            raise ValueError(
-                f"key 'face.dip_deg': the face ({self.face.dip_deg:g} deg) is not steeper than the upper "
-                f"surface ({self.upper_surface.dip_deg:g} deg)"
-            )
+        heights = {"height_h1_m": self.height_h1_m, "height_m": self.height_m}
+        keys.check_slope(self.face, self.upper_surface, heights, self.water, self.tension_crack)
         if (self.plane_1 is None) != (self.plane_2 is None):
             raise ValueError("key 'plane_1, plane_2': give both planes of the wedge, or neither")
         if self.plane_1 is None and self.combinations is None:
             raise ValueError(
                 "key 'plane_1, plane_2, combinations': give a wedge's two planes or combinations"
             )
-        if isinstance(self.water, keys.Pressures) and self.water.crack_kPa and self.tension_crack is None:
-            raise ValueError("key 'water.crack_kPa': a pressure on the tension crack needs tension_crack")
         if self.tension_crack is not None and self._limits_size():
             raise ValueError(
                 "key 'tension_crack': the size limits (bench_width_m, slope_length_m, max_volume_m3, a "
@@ -203,7 +199,7 @@ def setting(config: Config) -> WedgeSetting:
         overhanging_face=config.face.overhanging,
         crack=config.tension_crack.crack() if config.tension_crack is not None else None,
         water=water.water(),
-        water_unit_weight=getattr(water, "unit_weight_kN_m3", 9.81) * keys.KN,
+        water_unit_weight=float(keys.water_unit_weight(water)),
         seismic=config.seismic.seismic() if config.seismic is not None else None,
         forces=external + active,
         passive=passive,

@@ -9,8 +9,9 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from bbmc.config import InputFile, Section
-from bbmc.kinematics.config import Azimuth, Dip, FaceSection, Friction, LimitsSection, SetOrientationSection
+from bbmc.kinematics.config import FaceSection, Friction, LimitsSection, SetOrientationSection
 from bbmc.slope import toppling
+from bbmc.slope.wedge import config as wedge_keys
 
 Positive = Annotated[float, Field(gt=0)]
 Angle = Annotated[float, Field(gt=0, lt=90)]
@@ -152,53 +153,42 @@ class Kinematics(Section):
     seed: Annotated[int, Field(ge=0)] = 0
 
 
-class WedgePlane(Section):
-    """A wedge's joint plane (`bbmc.sweep.wedge_model`): its mean dip and dip direction [deg], Fisher's
-    K of its poles about the mean (none: the plane as given, or as a study's variables draw its dip and
-    dip direction), and its Mohr-Coulomb strength."""
+class WedgePlane(wedge_keys.JointPlane):
+    """A wedge's joint plane (`bbmc.sweep.wedge_model`) as `bbmc wedge` takes it (its mean dip and dip
+    direction [deg] and `strength`: Mohr-Coulomb or Barton-Bandis, `bbmc.slope.wedge.config`), and
+    Fisher's K of its poles about the mean (none: the plane as given, or as a study's variables draw its
+    dip and dip direction)."""
 
-    dip_deg: Dip
-    dip_direction_deg: Azimuth
     fisher_k: Positive | None = None
-    cohesion_kPa: Annotated[float, Field(ge=0)] = 0.0
-    friction_deg: Friction
-
-
-class WedgeSurface(Section):
-    """The slope face or the upper slope surface: dip and dip direction [deg]."""
-
-    dip_deg: Dip
-    dip_direction_deg: Azimuth
 
 
 class Wedge(Section):
     """A wedge of two joint planes on a slope face under an upper surface (`bbmc.slope.wedge`), one
-    wedge per sample, the batch through the compiled fast path (no tension crack). The height is H1
-    (`height_h1_m`: plane 1's crest point above the toe, Swedge's "slope height referred to plane 1")
-    or the wedge's total height (`height_h_m`: the toe to the top of the line of intersection). Water
-    is Hoek & Bray's (`water_filled`: the filled fraction of its head, 0: dry); seismic a coefficient
-    along the line of intersection or horizontal along its trend. Planes with `fisher_k` are drawn
-    about their means per sample (seeded by `seed` and the batch's first sample)."""
+    wedge per sample, in `bbmc wedge`'s keys (`bbmc.slope.wedge.config`): the planes and their strength,
+    the face and the upper surface, H1 (`height_h1_m`) or H (`height_m`), a tension crack, water, seismic,
+    external forces and bolts; every number of them can be varied. The batch goes through the compiled
+    fast path, or with a tension crack through the full geometry. Planes with `fisher_k` are drawn about
+    their means from each sample's own uniforms (seeded by `seed` and the sample's number)."""
 
     kind: Literal["wedge"]
     plane_1: WedgePlane
     plane_2: WedgePlane
-    face: WedgeSurface
-    upper_surface: WedgeSurface
+    face: wedge_keys.Face
+    upper_surface: wedge_keys.Orientation
     height_h1_m: Positive | None = None
-    height_h_m: Positive | None = None
-    overhanging_face: bool = False
+    height_m: Positive | None = None
+    tension_crack: wedge_keys.Crack | None = None
     unit_weight_kN_m3: Positive = 26.0
-    water_unit_weight_kN_m3: Positive = 9.81
-    water_filled: Annotated[float, Field(ge=0, le=1)] = 0.0
-    seismic_coefficient: Annotated[float, Field(ge=0, le=1)] = 0.0
-    seismic_direction: Literal["line", "horizontal"] = "line"
+    water: wedge_keys.Water = Field(default_factory=lambda: wedge_keys.NoWater(model="dry"))
+    seismic: wedge_keys.SeismicSection | None = None
+    forces: list[wedge_keys.ForceSection] = Field(default_factory=list)
+    bolts: list[wedge_keys.BoltSection] = Field(default_factory=list)
     seed: Annotated[int, Field(ge=0)] = 0
 
     @model_validator(mode="after")
-    def _one_height(self) -> Wedge:
-        if (self.height_h1_m is None) == (self.height_h_m is None):
-            raise ValueError("give exactly one of height_h1_m and height_h_m")
+    def _slope(self) -> Wedge:
+        heights = {"height_h1_m": self.height_h1_m, "height_m": self.height_m}
+        wedge_keys.check_slope(self.face, self.upper_surface, heights, self.water, self.tension_crack)
         return self
 
     @property

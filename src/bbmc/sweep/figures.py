@@ -50,6 +50,10 @@ def tornado_figure(spearman: pd.Series, dpi: int) -> Figure:
     return fig
 
 
+TAIL_QUANTILE = 0.995  # where a long upper tail of FS is cut off the distribution figure
+TAIL_STRETCH = 3.0  # a tail counts as long where the largest FS lies this many times further off
+
+
 def _edges_through_one(values: np.ndarray) -> np.ndarray:
     """Histogram bins of numpy's "auto" width (at most 80 over the range), with FS = 1 on an edge so
     no bin mixes failing and stable samples."""
@@ -99,23 +103,42 @@ def whole_sample_ticks(first: int, last: int) -> list[int]:
     return sorted({int(t) for t in spread if first <= t <= last} | {first, last})
 
 
+def drawn_range(values: np.ndarray) -> float:
+    """The largest FS the figure's axes reach: the largest value, or where a long tail would squeeze the
+    distribution into a corner (a largest value more than TAIL_STRETCH times as far from the least as
+    the TAIL_QUANTILE is), that quantile; `values` sorted."""
+    low, high = float(values[0]), float(values[-1])
+    quantile = float(np.quantile(values, TAIL_QUANTILE))
+    return quantile if high - low > TAIL_STRETCH * max(quantile - low, 1e-12) else high
+
+
 def distribution_figure(fs: ArrayLike, stats: dict, dpi: int) -> Figure:
     """(a) Histogram of FS over the valid samples, failing samples (FS < 1) shaded; (b) empirical CDF
     of FS, whose height at FS = 1 is P_f. FS = 1 is marked on both; P_f with its Clopper-Pearson 95 %
     interval (3 significant digits: a P_f of 0 shows its upper bound), the reliability indices and,
-    if given in `stats` (fs_at_mean_inputs), the FS at the mean inputs are in the title."""
+    if given in `stats` (fs_at_mean_inputs), the FS at the mean inputs are in the title. A long upper
+    tail (`drawn_range`) is left off both axes and counted in the histogram's legend."""
     fs = np.asarray(fs, dtype=float).ravel()
     values = np.sort(fs[np.isfinite(fs)])
     fig = Figure(figsize=(11, 4.5), dpi=dpi, layout="constrained")
     ax_h, ax_c = fig.subplots(1, 2)
-    edges = _edges_through_one(values)
-    ax_h.hist(values[values >= 1.0], bins=edges, color=POSITIVE, alpha=0.8, label="FS $\\geq$ 1 (stable)")
-    ax_h.hist(values[values < 1.0], bins=edges, color=NEGATIVE, alpha=0.8, label="FS < 1 (fails)")
+    top = drawn_range(values)
+    drawn = values[values <= top]
+    edges = _edges_through_one(drawn)
+    ax_h.hist(drawn[drawn >= 1.0], bins=edges, color=POSITIVE, alpha=0.8, label="FS $\\geq$ 1 (stable)")
+    ax_h.hist(drawn[drawn < 1.0], bins=edges, color=NEGATIVE, alpha=0.8, label="FS < 1 (fails)")
+    if drawn.size < values.size:
+        beyond = values.size - drawn.size
+        ax_h.plot(
+            [], [], " ", label=f"not drawn: {beyond:,} samples with FS > {top:.3g} (up to {values[-1]:.3g})"
+        )
     ax_h.set(xlabel="factor of safety FS (-)", ylabel="number of samples", title="(a) histogram of FS")
     ax_h.yaxis.set_major_locator(MaxNLocator(integer=True))  # whole samples
     ax_h.set_ylim(top=ax_h.get_ylim()[1] * 1.35)  # headroom: the legend above the tallest bar
     ecdf = np.arange(1, values.size + 1) / values.size
     ax_c.step(values, ecdf, where="post", color="k", label="empirical CDF")
+    if drawn.size < values.size:
+        ax_c.set_xlim(edges[0], edges[-1])
     p_f = stats["probability_of_failure"]
     ax_c.axhline(p_f, color=NEGATIVE, linestyle=":", linewidth=1.0, label=f"$P_f$ = {probability_text(p_f)}")
     ax_c.set(

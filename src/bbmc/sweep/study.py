@@ -97,7 +97,7 @@ def model_of(config: Config, tree: dict | None) -> Model:
     if isinstance(base, Kinematics):
         return KinematicsModel(base.model_dump())
     if isinstance(base, Wedge):
-        return WedgeModel(base.model_dump())
+        return WedgeModel(base)
     return SceneModel(tree, str(base.scene or base.slope_config), base.kind, base.monitor)
 
 

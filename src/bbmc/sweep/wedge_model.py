@@ -1,8 +1,17 @@
 """A sweep's `wedge` base: one wedge per sample (`bbmc.slope.wedge.probability`), the whole batch in one
-vectorised call through the compiled fast path.
+vectorised call, through the compiled fast path (the full geometry with a tension crack).
 
-Each sample's inputs are the base's values with the study's variables set at their paths
-(plane_1.friction_deg, plane_2.cohesion_kPa, plane_1.dip_deg, water_filled, seismic_coefficient, ...).
+The base is `bbmc wedge`'s keys (`bbmc.slope.wedge.config`: the planes and their Mohr-Coulomb or
+Barton-Bandis strength, face, upper surface, height, tension crack, water, seismic, forces, bolts) and
+each plane's Fisher K. A sample's inputs are the base's sections with the study's variables set at
+their paths (plane_1.strength.friction_deg, plane_2.strength.jrc, water.filled, seismic.coefficient,
+bolts.0.capacity_kN, ...) as arrays over the batch (`model_construct`: the base was validated, the
+varied numbers were drawn within their keys' ranges), turned into SI by the sections' own methods, as
+`bbmc wedge` turns its config. A Barton-Bandis plane is evaluated at its own normal stress from statics
+per sample (`bbmc.slope.wedge.strength`), scaled where asked to the sample's line of intersection
+(`probability.intersection_lengths`). Bolts are counted active or passive (`support.support_resultants`)
+and join the external forces or the passive resultant, as in `bbmc wedge`.
+
 A plane with `fisher_k` is then drawn about its (possibly varied) mean by Fisher's distribution, from
 the sample's own uniforms (`bbmc.sweep.streams`: a function of the base's seed and the sample's number
 only), so a sample's draw is the same whatever the batch size, the worker or the order the batches run
@@ -23,14 +32,20 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from pydantic import BaseModel
 
-from bbmc import units
-from bbmc.scene.paths import get_path
-from bbmc.slope.wedge.analysis import Seismic, WedgeOrientations
+from bbmc.slope.wedge import config as keys
+from bbmc.slope.wedge.analysis import WedgeOrientations
 from bbmc.slope.wedge.geometry import REASON_TEXT, WedgeReason
-from bbmc.slope.wedge.mechanics import MohrCoulomb, SlidingMode
-from bbmc.slope.wedge.probability import PlaneScatter, WedgeProbability, wedge_probability
-from bbmc.slope.wedge.water import HoekBrayWater
+from bbmc.slope.wedge.mechanics import SlidingMode
+from bbmc.slope.wedge.probability import (
+    PlaneScatter,
+    WedgeProbability,
+    intersection_lengths,
+    wedge_probability,
+)
+from bbmc.slope.wedge.support import support_resultants
+from bbmc.sweep.config import Wedge
 from bbmc.sweep.models import ERROR, FAILED_RUN, FS, INVALID, OUTCOME, VALID
 from bbmc.sweep.outcomes import Outcomes
 from bbmc.sweep.statistics import clopper_pearson_interval
@@ -52,30 +67,48 @@ DRAWN = [f"{plane}.{key}_drawn" for plane in PLANES for key in ("dip_deg", "dip_
 
 @dataclass(frozen=True)
 class WedgeModel:
-    """The base's data (`bbmc.sweep.config.Wedge`, dumped), evaluated a batch at a time."""
+    """The base (`bbmc.sweep.config.Wedge`), evaluated a batch at a time."""
 
-    base: dict
+    base: Wedge
 
-    def _column(self, inputs: pd.DataFrame, path: str) -> np.ndarray:
-        """The sample's value at `path` (a variable's column, else the base's value), per sample."""
-        given = inputs[path].to_numpy(dtype=float) if path in inputs else get_path(self.base, path)
-        return np.broadcast_to(np.asarray(given, dtype=float), (len(inputs),))
+    def section(self, inputs: pd.DataFrame, path: str, section: BaseModel) -> BaseModel:
+        """The base's `section` at `path` with each number a variable sets replaced by its column (an
+        array over the batch), nested sections likewise; unvalidated (`model_construct`)."""
+        values = {}
+        for key, value in section:
+            where = f"{path}.{key}"
+            if isinstance(value, BaseModel):
+                value = self.section(inputs, where, value)
+            elif where in inputs:
+                value = inputs[where].to_numpy(dtype=float)
+            values[key] = value
+        return type(section).model_construct(**values)
 
-    def _plane(self, inputs: pd.DataFrame, plane: str, streams: int) -> tuple[np.ndarray, ...]:
+    def _number(self, inputs: pd.DataFrame, key: str) -> float | np.ndarray | None:
+        """A top-level number of the base: a variable's column, else the base's value."""
+        return inputs[key].to_numpy(dtype=float) if key in inputs else getattr(self.base, key)
+
+    def _plane(self, inputs: pd.DataFrame, plane: keys.JointPlane, streams: int) -> tuple[np.ndarray, ...]:
         """A plane's dips and dip directions [rad] per sample: drawn about each sample's mean with its
         K if it has one, from the sample's own uniforms (`bbmc.sweep.streams`, streams `streams` and
         `streams` + 1), else the means themselves."""
-        keys = [f"{plane}.{key}" for key in ("dip_deg", "dip_direction_deg", "fisher_k")]
-        means = np.stack([self._column(inputs, key) for key in keys[:2]])
-        if self.base[plane]["fisher_k"] is None:
+        count = len(inputs)
+        means = [
+            np.broadcast_to(np.asarray(m, dtype=float), (count,))
+            for m in (plane.dip_deg, plane.dip_direction_deg)
+        ]
+        if plane.fisher_k is None:
             return np.radians(means[0]), np.radians(means[1])
         samples = inputs.index.to_numpy()
-        u = sample_uniforms(self.base["seed"], samples, streams)
-        v = sample_uniforms(self.base["seed"], samples, streams + 1)
-        dip, direction = np.empty(len(inputs)), np.empty(len(inputs))
-        groups, where = np.unique(
-            np.vstack([means, self._column(inputs, keys[2])]), axis=1, return_inverse=True
-        )
+        u = sample_uniforms(self.base.seed, samples, streams)
+        v = sample_uniforms(self.base.seed, samples, streams + 1)
+        given = (plane.dip_deg, plane.dip_direction_deg, plane.fisher_k)
+        if not any(isinstance(g, np.ndarray) for g in given):  # one mean and K: the batch at once
+            scatter = PlaneScatter(math.radians(given[0]), math.radians(given[1]), fisher_k=given[2])
+            return scatter.from_uniforms(u, v)
+        dip, direction = np.empty(count), np.empty(count)
+        kappa = np.broadcast_to(np.asarray(plane.fisher_k, dtype=float), (count,))
+        groups, where = np.unique(np.vstack([*means, kappa]), axis=1, return_inverse=True)
         for g, (mean_dip, mean_direction, k) in enumerate(groups.T):
             rows = np.flatnonzero(where.ravel() == g)
             scatter = PlaneScatter(math.radians(mean_dip), math.radians(mean_direction), fisher_k=k)
@@ -85,36 +118,48 @@ class WedgeModel:
     def probability(self, inputs: pd.DataFrame) -> tuple[WedgeProbability, list[np.ndarray]]:
         """The batch's wedges (FS, reasons, sliding modes) and the drawn dips and dip directions [rad]
         (plane 1's, then plane 2's)."""
-        drawn = [*self._plane(inputs, "plane_1", 0), *self._plane(inputs, "plane_2", 2)]
-        face, upper = ([math.radians(self.base[s][k]) for k in ("dip_deg", "dip_direction_deg")]
-                       for s in ("face", "upper_surface"))  # fmt: skip
-        strengths = [
-            MohrCoulomb(
-                self._column(inputs, f"{plane}.cohesion_kPa") * units.kPa,
-                np.radians(self._column(inputs, f"{plane}.friction_deg")),
-            )
-            for plane in PLANES
-        ]
-        heights = {
-            key: None if self.base[f"{key}_m"] is None else self._column(inputs, f"{key}_m")
-            for key in ("height_h1", "height_h")
+        base = self.base
+        planes = [self.section(inputs, name, getattr(base, name)) for name in PLANES]
+        drawn = [*self._plane(inputs, planes[0], 0), *self._plane(inputs, planes[1], 2)]
+        face, upper = (self.section(inputs, name, getattr(base, name)) for name in ("face", "upper_surface"))
+        orientations = WedgeOrientations(*drawn, *face.radians(), *upper.radians())
+        crack = base.tension_crack
+        geometry = {
+            "height_h1": self._number(inputs, "height_h1_m"),
+            "height_h": self._number(inputs, "height_m"),
+            "overhanging_face": base.face.overhanging,
+            "crack": None if crack is None else self.section(inputs, "tension_crack", crack).crack(),
         }
+        needs = any(plane.needs_length() for plane in planes)
+        length = intersection_lengths(orientations, **geometry) if needs else 0.0
+        water = self.section(inputs, "water", base.water)
+        seismic = None if base.seismic is None else self.section(inputs, "seismic", base.seismic).seismic()
+        bolts = [self.section(inputs, f"bolts.{i}", bolt).bolt() for i, bolt in enumerate(base.bolts)]
+        active, passive = support_resultants(bolts)
+        forces = [self.section(inputs, f"forces.{i}", force).vector() for i, force in enumerate(base.forces)]
         result = wedge_probability(
-            WedgeOrientations(*drawn, *face, *upper),
-            *strengths,
-            **heights,
-            overhanging_face=self.base["overhanging_face"],
-            unit_weight=self._column(inputs, "unit_weight_kN_m3") * 1e3,
-            water=HoekBrayWater(self._column(inputs, "water_filled")),
-            water_unit_weight=self._column(inputs, "water_unit_weight_kN_m3") * 1e3,
-            seismic=Seismic(self._column(inputs, "seismic_coefficient"), self.base["seismic_direction"]),
+            orientations,
+            *(plane.plane_strength(length) for plane in planes),
+            **geometry,
+            unit_weight=self._number(inputs, "unit_weight_kN_m3") * keys.KN,
+            water=water.water(),
+            water_unit_weight=keys.water_unit_weight(water),
+            seismic=seismic,
+            forces=sum(forces, active),
+            passive=passive,
         )
         return result, drawn
 
     def __call__(self, inputs: pd.DataFrame) -> pd.DataFrame:
+        """Each sample's outcome and outputs. A batch that a sample's combination of values refuses (a
+        B-B phi_max + waviness varied to 90 deg or more) is halved until only those samples fail, each
+        with the error (a sample's draws do not depend on its batch)."""
         try:
             result, drawn = self.probability(inputs)
         except ValueError as error:
+            if len(inputs) > 1:
+                half = len(inputs) // 2
+                return pd.concat([self(inputs.iloc[:half]), self(inputs.iloc[half:])])
             text = f"{type(error).__name__}: {error}"
             table = pd.DataFrame({ERROR: text, OUTCOME: FAILED_RUN}, index=inputs.index)
             return table.reindex(columns=[FS, MODE, REASON, *DRAWN, ERROR, OUTCOME])

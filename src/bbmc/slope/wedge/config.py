@@ -1,7 +1,9 @@
 """The keys a wedge is given by (WEDGE.yaml), in degrees, kPa, MPa, kN and metres at the file, and their
 turning into the analysis' SI objects here (radians, Pa, N, N/m^3): the joint planes and their strength,
 the face, the upper surface, the tension crack, water, seismic, forces and support. `bbmc wedge` reads
-these sections; a sweep's wedge base can read the same ones.
+these sections, and so does a sweep's `wedge` base (`bbmc.sweep.wedge_model`), which builds them with
+its varied numbers as arrays over the samples (`model_construct`): every conversion here is numpy and
+broadcasts.
 
 Every rule that a single key cannot state is checked with the whole config (`model_validator`), so a
 bad config is refused before any work, in one line naming its key (`bbmc.config`).
@@ -9,9 +11,10 @@ bad config is refused before any work, in one line naming its key (`bbmc.config`
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Literal
 
+import numpy as np
+from numpy.typing import ArrayLike
 from pydantic import Field, model_validator
 
 from bbmc import units
@@ -32,6 +35,12 @@ NonNegative = Annotated[float, Field(ge=0)]
 Angle = Annotated[float, Field(gt=0, lt=90)]
 Plunge = Annotated[float, Field(ge=-90, le=90)]
 KN = 1e3  # N per kN
+
+
+def scaled_to_intersection(field_length: object) -> bool:
+    """Whether a B-B plane's `field_length_m` is `intersection` (it may be a length, or an array of them
+    in a sweep's sample)."""
+    return isinstance(field_length, str) and field_length == "intersection"
 
 
 class MohrCoulombStrength(Section):
@@ -68,7 +77,7 @@ class BartonBandisStrength(Section):
     def strength(self, intersection_length: float = 0.0) -> BartonBandis:
         """The plane's B-B strength; `intersection_length` [m] is used where field_length_m asks for it."""
         field = self.field_length_m
-        length = intersection_length if field == "intersection" else (field or 0.0)
+        length = intersection_length if scaled_to_intersection(field) else (0.0 if field is None else field)
         return BartonBandis(
             self.jrc,
             self.jcs_MPa * units.MPa,
@@ -93,7 +102,7 @@ class EquivalentMohrCoulombStrength(BartonBandisStrength):
     def strength(self, intersection_length: float = 0.0) -> MohrCoulomb:
         """The tangent c [Pa], phi [rad] at sigma_n_kPa of the B-B plane."""
         tangent = super().strength(intersection_length).equivalent_mohr_coulomb(self.sigma_n_kPa * units.kPa)
-        return MohrCoulomb(float(tangent.cohesion), float(tangent.friction))
+        return MohrCoulomb(tangent.cohesion, tangent.friction)
 
 
 Strength = Annotated[
@@ -108,7 +117,7 @@ class Orientation(Section):
     dip_direction_deg: Azimuth
 
     def radians(self) -> tuple[float, float]:
-        return math.radians(self.dip_deg), math.radians(self.dip_direction_deg)
+        return np.radians(self.dip_deg), np.radians(self.dip_direction_deg)
 
 
 class JointPlane(Orientation):
@@ -133,7 +142,7 @@ class JointPlane(Orientation):
 
     def needs_length(self) -> bool:
         """True where the strength is scaled to the wedge's line of intersection."""
-        return getattr(self.strength, "field_length_m", None) == "intersection"
+        return scaled_to_intersection(getattr(self.strength, "field_length_m", None))
 
 
 class Face(Orientation):
@@ -188,6 +197,11 @@ class Pressures(Section):
 Water = Annotated[NoWater | HoekBray | Pressures, Field(discriminator="model")]
 
 
+def water_unit_weight(water: NoWater | HoekBray | Pressures) -> ArrayLike:
+    """gamma_w [N/m^3]: Hoek & Bray's water's own, else 9.81 kN/m^3 (a model that does not use it)."""
+    return np.asarray(getattr(water, "unit_weight_kN_m3", 9.81)) * KN
+
+
 class SeismicSection(Section):
     """k [1] and its direction: down the line of intersection, horizontal along its trend, or `given`
     by trend and plunge [deg] (plunge down positive)."""
@@ -209,7 +223,7 @@ class SeismicSection(Section):
         if self.direction != "given":
             return Seismic(self.coefficient, self.direction)
         return Seismic(
-            self.coefficient, line_vectors(math.radians(self.trend_deg), math.radians(self.plunge_deg))
+            self.coefficient, line_vectors(np.radians(self.trend_deg), np.radians(self.plunge_deg))
         )
 
 
@@ -221,9 +235,7 @@ class ForceSection(Section):
     plunge_deg: Plunge
 
     def vector(self):
-        return force_vector(
-            self.magnitude_kN * KN, math.radians(self.trend_deg), math.radians(self.plunge_deg)
-        )
+        return force_vector(self.magnitude_kN * KN, np.radians(self.trend_deg), np.radians(self.plunge_deg))
 
 
 class BoltSection(Section):
@@ -239,8 +251,8 @@ class BoltSection(Section):
     def bolt(self) -> Bolt:
         return Bolt(
             self.capacity_kN * KN,
-            math.radians(self.trend_deg),
-            math.radians(self.plunge_deg),
+            np.radians(self.trend_deg),
+            np.radians(self.plunge_deg),
             self.count,
             self.form,
         )
@@ -276,3 +288,24 @@ class Design(Section):
                 "give exactly one of capacity_kN (the count is designed) and count (the capacity is)"
             )
         return self
+
+
+def check_slope(
+    face: Face,
+    upper_surface: Orientation,
+    heights: dict[str, float | None],
+    water: NoWater | HoekBray | Pressures,
+    crack: Crack | None,
+) -> None:
+    """The rules of a wedge's slope that no single key states, as `bbmc wedge` and a sweep's wedge base
+    both take them: exactly one of the two `heights` (by key), a face steeper than the upper surface,
+    and a water pressure on the tension crack only with a crack. ValueError naming the key."""
+    if sum(h is not None for h in heights.values()) != 1:
+        raise ValueError(f"key '{', '.join(heights)}': give exactly one")
+    if face.dip_deg <= upper_surface.dip_deg:
+        raise ValueError(
+            f"key 'face.dip_deg': the face ({face.dip_deg:g} deg) is not steeper than the upper "
+            f"surface ({upper_surface.dip_deg:g} deg)"
+        )
+    if isinstance(water, Pressures) and water.crack_kPa and crack is None:
+        raise ValueError("key 'water.crack_kPa': a pressure on the tension crack needs tension_crack")

@@ -1,8 +1,8 @@
 """Probabilistic wedges: joint orientations scattered about their sets' means, strength, water and
 seismic drawn per sample, every sample one wedge through the compiled fast path
-(`analysis.analyse_wedges(..., essentials_only=True)`), and the two probabilities Swedge separates
-(Rocscience Swedge, help "Probabilistic Analysis": "probability of failure" and "probability of
-sliding"):
+(`analysis.analyse_wedges(..., essentials_only=True)`; the full geometry with a tension crack), and
+the two probabilities Swedge separates (Rocscience Swedge, help "Probabilistic Analysis": "probability
+of failure" and "probability of sliding"):
 
     P_f       = N_failed / N_samples        every sample counted, a wedge that does not form as safe
     P_sliding = N_failed / N_formed         over the kinematically valid wedges only
@@ -32,7 +32,8 @@ from scipy.special import ndtri
 
 from bbmc.geometry.orientation import fisher_directions, fisher_sample, plane_of_pole, poles
 from bbmc.slope.wedge.analysis import WedgeOrientations, analyse_wedges
-from bbmc.slope.wedge.geometry import WedgeReason
+from bbmc.slope.wedge.essentials import wedge_essentials
+from bbmc.slope.wedge.geometry import TensionCrack, WedgeReason, wedge_geometries
 from bbmc.slope.wedge.mechanics import PlaneStrength
 
 Array = NDArray[np.float64]
@@ -140,14 +141,37 @@ class WedgeProbability:
         return {WedgeReason(int(c)): int(k) for c, k in zip(codes, counts, strict=True)}
 
 
+def intersection_lengths(
+    orientations: WedgeOrientations,
+    *,
+    height_h1: ArrayLike | None = None,
+    height_h: ArrayLike | None = None,
+    overhanging_face: ArrayLike = False,
+    crack: TensionCrack | None = None,
+) -> Array:
+    """The length [m] of each wedge's line of intersection from the toe O (`geometry.WedgeGeometry.
+    intersection_length`, the length a Barton-Bandis plane is scaled to; NaN where the wedge does not
+    form). Without a crack from the compiled fast path: the top T lies on the line through O, so
+    |OT| = H / |l_z|, H the wedge's total height [m] and l the unit line of intersection; with a crack
+    the full geometry's O R (R the crack's foot)."""
+    heights = {"height_h1": height_h1, "height_h": height_h, "overhanging_face": overhanging_face}
+    if crack is not None:
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            return wedge_geometries(*orientations.angles(), crack=crack, **heights).intersection_length
+    essentials = wedge_essentials(*orientations.angles(), **heights)
+    return essentials.height_h / np.abs(essentials.line[..., 2])
+
+
 def wedge_probability(
     orientations: WedgeOrientations, strength_1: PlaneStrength, strength_2: PlaneStrength, **loads: ArrayLike
 ) -> WedgeProbability:
     """The FS of every sampled wedge (`orientations` and the strengths and `loads` arrays over the
     samples, as `analysis.analyse_wedges` takes them: unit_weight, height_h1 or height_h, water, seismic,
-    ...) by the compiled fast path (no tension crack), and the probabilities over them; fixed
-    orientations with drawn strengths give every sample the one geometry."""
-    analysis = analyse_wedges(orientations, strength_1, strength_2, essentials_only=True, **loads)
+    forces, passive, crack, ...) by the compiled fast path, or with a tension crack (`crack`) by the
+    full geometry, and the probabilities over them; fixed orientations with drawn strengths give every
+    sample the one geometry."""
+    fast = loads.get("crack") is None
+    analysis = analyse_wedges(orientations, strength_1, strength_2, essentials_only=fast, **loads)
     fs = np.asarray(analysis.factor_of_safety)
     reason, mode = (np.broadcast_to(a, fs.shape) for a in (analysis.geometry.reason, analysis.solution.mode))
     return WedgeProbability(fs, reason, mode)
