@@ -232,3 +232,20 @@ def test_a_sample_whose_values_the_law_refuses_fails_alone():
     assert out.loc[refused, "error"].str.contains("max_friction \\+ waviness").all()
     alone = pd.concat([model(inputs.iloc[[i]]) for i in np.flatnonzero(~refused)])
     pd.testing.assert_frame_equal(out.loc[~refused], alone, check_dtype=False)
+
+
+def test_a_size_limit_in_a_study_is_refused_naming_it():
+    """`bbmc wedge`'s trace_length_m on a plane: the study's fast path does not scale wedges, so the base
+    refuses it in one line rather than ignore it."""
+    base = _base({"plane_1": {"strength": MC, "trace_length_m": 10.0}, "plane_2": {"strength": MC}})
+    config = {
+        "name": "t",
+        "base": base,
+        "variables": [{"path": "water.filled", "distribution": "uniform", "min": 0, "max": 1}],
+        "sampling": {"method": "monte_carlo", "samples": 10},
+    }
+    with pytest.raises(
+        ConfigError, match=r"key 'base.plane_1.trace_length_m, base.plane_1.persistence_m'"
+    ) as refused:
+        api.study(config, workers=1)
+    assert "\n" not in str(refused.value)

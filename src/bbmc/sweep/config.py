@@ -161,6 +161,15 @@ class WedgePlane(wedge_keys.JointPlane):
 
     fisher_k: Positive | None = None
 
+    @model_validator(mode="after")
+    def _no_size_limit(self) -> WedgePlane:
+        if self.limits_size():
+            raise ValueError(
+                "key 'trace_length_m, persistence_m': a study's wedges are not scaled to size limits "
+                "(bbmc wedge takes them; the study's fast path does not)"
+            )
+        return self
+
 
 class Wedge(Section):
     """A wedge of two joint planes on a slope face under an upper surface (`bbmc.slope.wedge`), one
