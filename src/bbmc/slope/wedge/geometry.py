@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from bbmc.geometry.orientation import downward, pole_components, trend_and_plunge
 from bbmc.slope.wedge.short_solution import ShortSolutionAngles, short_solution_angles
-from bbmc.slope.wedge.vectors import cross, dot, norm, triangle_area, unit
+from bbmc.slope.wedge.vectors import cross, dot, norm, stacked, triangle_area, unit
 
 Array = NDArray[np.float64]
 TOLERANCE = 1e-9  # sines and cosines of unit vectors closer to 0 than this count as 0 (parallel lines)
@@ -198,10 +198,6 @@ def _refuse(bad: NDArray[np.bool_], key: str, what: str) -> None:
         raise ValueError(f"{key}: {what}")
 
 
-def _stacked(x: Array, y: Array, z: Array) -> Array:
-    return np.stack(np.broadcast_arrays(x, y, z), axis=-1)
-
-
 def _plane_inputs(
     dips: dict[str, ArrayLike], directions: tuple[ArrayLike, ...], overhanging_face: ArrayLike
 ) -> tuple[Array, Array, Array, Array]:
@@ -211,11 +207,11 @@ def _plane_inputs(
         _refuse(~((value >= 0.0) & (value <= np.pi / 2.0)), key, "a dip must be 0 to 90 degrees")
     _refuse(~(dip["face_dip"] > 0.0), "face_dip", "the face must dip (> 0)")
     dip_1, dip_2, face, upper = dip.values()
-    pole_1 = _stacked(*pole_components(dip_1, directions[0]))
-    pole_2 = _stacked(*pole_components(dip_2, directions[1]))
+    pole_1 = stacked(*pole_components(dip_1, directions[0]))
+    pole_2 = stacked(*pole_components(dip_2, directions[1]))
     fx, fy, fz = pole_components(face, directions[2])
-    face_normal = _stacked(fx, fy, np.where(np.asarray(overhanging_face, dtype=bool), -fz, fz))
-    return pole_1, pole_2, face_normal, _stacked(*pole_components(upper, directions[3]))
+    face_normal = stacked(fx, fy, np.where(np.asarray(overhanging_face, dtype=bool), -fz, fz))
+    return pole_1, pole_2, face_normal, stacked(*pole_components(upper, directions[3]))
 
 
 def _point_on_upper(normal_p: Array, normal_q: Array, upper: Array) -> tuple[Array, Array]:
@@ -282,7 +278,7 @@ def _crack_cut(
     crack: TensionCrack, crest_1: Array, crest_2: Array, top: Array
 ) -> tuple[Array, Array, Array, Array, NDArray[np.bool_]]:
     """P, Q, R, the crack's normal into the wedge, and where the crack fails to cut off T alone."""
-    normal = _stacked(*pole_components(np.asarray(crack.dip, float), np.asarray(crack.dip_direction, float)))
+    normal = stacked(*pole_components(np.asarray(crack.dip, float), np.asarray(crack.dip_direction, float)))
     point = crest_1 + np.asarray(crack.distance, dtype=float)[..., None] * unit(top - crest_1)
     side_toe = -dot(normal, point)
     side_1, side_2, side_top = (dot(normal, vertex - point) for vertex in (crest_1, crest_2, top))
@@ -345,9 +341,13 @@ def _truncated(
     }
 
 
-def _masked(value: Array, formed: NDArray[np.bool_]) -> Array:
-    """`value` with NaN where the wedge does not form (a copy only where one does not)."""
-    if formed.all():
+def _masked(value: Array, shape: tuple[int, ...], formed: NDArray[np.bool_] | None) -> Array:
+    """`value` broadcast to `shape`, with NaN where the wedge does not form (`formed`; None where every
+    wedge forms: then no copy)."""
+    value = np.asarray(value)
+    if value.shape != shape:
+        value = np.broadcast_to(value, shape)
+    if formed is None:
         return value
     value = np.array(value, dtype=float)
     value[~formed] = np.nan
@@ -424,11 +424,14 @@ def wedge_geometries(
         }
     )
     formed = reason == WedgeReason.FORMED
+    partly = None if formed.all() else formed
     out = {
-        key: _masked(np.broadcast_to(value, shape + value.shape[-1:] if key in _VECTORS else shape), formed)
+        key: _masked(value, shape + value.shape[-1:] if key in _VECTORS else shape, partly)
         for key, value in values.items()
     }
-    short = ShortSolutionAngles(**{f.name: _masked(getattr(angles, f.name), formed) for f in fields(angles)})
+    short = ShortSolutionAngles(
+        **{f.name: _masked(getattr(angles, f.name), shape, partly) for f in fields(angles)}
+    )
     return WedgeGeometry(**out, short_solution=short, reason=reason, has_crack=crack is not None)
 
 
