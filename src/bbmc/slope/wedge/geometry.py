@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from bbmc.geometry.orientation import downward, pole_components, trend_and_plunge
 from bbmc.slope.wedge.short_solution import ShortSolutionAngles, short_solution_angles
-from bbmc.slope.wedge.vectors import cross, dot, norm, stacked, triangle_area, unit
+from bbmc.slope.wedge.vectors import cross, dot, norm, spread, stacked, triangle_area, unit
 
 Array = NDArray[np.float64]
 TOLERANCE = 1e-9  # sines and cosines of unit vectors closer to 0 than this count as 0 (parallel lines)
@@ -194,7 +194,7 @@ class WedgeGeometry:
 
 
 def _refuse(bad: NDArray[np.bool_], key: str, what: str) -> None:
-    if np.any(bad):
+    if bad.any():
         raise ValueError(f"{key}: {what}")
 
 
@@ -233,24 +233,26 @@ def _first_reasons(conditions: list[tuple[WedgeReason, NDArray[np.bool_]]]) -> N
 
 def _unit_wedge(
     pole_1: Array, pole_2: Array, face: Array, upper: Array
-) -> tuple[Array, Array, Array, list[tuple[WedgeReason, NDArray[np.bool_]]]]:
-    """C1, C2 and T for the upper surface u . x = 1, and the conditions of the wedge's forming."""
+) -> tuple[Array, Array, Array, Array, list[tuple[WedgeReason, NDArray[np.bool_]]]]:
+    """C1, C2 and T for the upper surface u . x = 1, the line of intersection (downward unit vector) and
+    the conditions of the wedge's forming."""
     crest_1, along_1 = _point_on_upper(pole_1, face, upper)
     crest_2, along_2 = _point_on_upper(pole_2, face, upper)
     top, along_line = _point_on_upper(pole_1, pole_2, upper)
     face_up = unit(np.array([0.0, 0.0, 1.0]) - face[..., 2:3] * face)
     convex = (norm(cross(face, upper)) > TOLERANCE) & (dot(upper, face_up) > TOLERANCE)
-    line = downward(unit(cross(pole_1, pole_2)))
+    across = cross(pole_1, pole_2)
+    line = downward(unit(across))
     behind = dot(face, top) < -TOLERANCE * norm(top)
     daylights = dot(face, line) > TOLERANCE
     conditions = [
         (WedgeReason.SLOPE_NOT_CONVEX, ~convex),
-        (WedgeReason.PARALLEL_PLANES, ~(norm(cross(pole_1, pole_2)) > TOLERANCE)),
+        (WedgeReason.PARALLEL_PLANES, ~(norm(across) > TOLERANCE)),
         (WedgeReason.TRACE_MISSES_CREST, ~((along_1 > TOLERANCE) & (along_2 > TOLERANCE))),
         (WedgeReason.NOT_DAYLIGHTING, ~behind & ~daylights),
         (WedgeReason.NOT_OUTCROPPING, ~behind | ~(along_line > TOLERANCE)),
     ]
-    return crest_1, crest_2, top, conditions
+    return crest_1, crest_2, top, line, conditions
 
 
 def _scale(
@@ -344,9 +346,7 @@ def _truncated(
 def _masked(value: Array, shape: tuple[int, ...], formed: NDArray[np.bool_] | None) -> Array:
     """`value` broadcast to `shape`, with NaN where the wedge does not form (`formed`; None where every
     wedge forms: then no copy)."""
-    value = np.asarray(value)
-    if value.shape != shape:
-        value = np.broadcast_to(value, shape)
+    value = spread(value, shape)
     if formed is None:
         return value
     value = np.array(value, dtype=float)
@@ -381,7 +381,7 @@ def wedge_geometries(
         for d in (dip_direction_1, dip_direction_2, face_dip_direction, upper_dip_direction)
     )
     pole_1, pole_2, face, upper = _plane_inputs(dips, directions, overhanging_face)
-    crest_1, crest_2, top, conditions = _unit_wedge(pole_1, pole_2, face, upper)
+    crest_1, crest_2, top, line, conditions = _unit_wedge(pole_1, pole_2, face, upper)
     offset, below = _scale(crest_1, top, height_h1, height_h)
     conditions.append((WedgeReason.HEIGHT_BELOW_TOE, below))
     crest_1, crest_2, top = (offset[..., None] * point for point in (crest_1, crest_2, top))
@@ -398,7 +398,6 @@ def wedge_geometries(
         crack_points = {"crack_1": on_1, "crack_2": on_2, "crack_foot": foot, "normal_crack": normal_crack}
     reason = _first_reasons(conditions)
     shape = reason.shape
-    line = downward(unit(cross(pole_1, pole_2)))
     trend, plunge = trend_and_plunge(line)
     line_out = unit(-top)
     plunge_out = np.arcsin(np.clip(-line_out[..., 2], -1.0, 1.0))

@@ -9,19 +9,26 @@ a single wedge's time).
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 Vectors = NDArray[np.float64]
 
 
 def stacked(x: NDArray[np.float64], y: NDArray[np.float64], z: NDArray[np.float64]) -> Vectors:
     """The vectors (..., 3) of components x, y, z (broadcast together)."""
-    shape = np.shape(x)
-    if not np.shape(y) == np.shape(z) == shape:
-        shape = np.broadcast_shapes(shape, np.shape(y), np.shape(z))
+    shape = x.shape
+    if not y.shape == z.shape == shape:
+        shape = np.broadcast_shapes(shape, y.shape, z.shape)
     out = np.empty((*shape, 3))
     out[..., 0], out[..., 1], out[..., 2] = x, y, z
     return out
+
+
+def spread(value: ArrayLike, shape: tuple[int, ...]) -> NDArray:
+    """`value` as an array broadcast to `shape`: itself where it has that shape already (a read-only
+    view from `np.broadcast_to`, ~8 us a call, only where it has not)."""
+    value = np.asarray(value)
+    return value if value.shape == shape else np.broadcast_to(value, shape)
 
 
 def dot(a: Vectors, b: Vectors) -> NDArray[np.float64]:
