@@ -262,3 +262,26 @@ def test_kinematics_section_writes_its_costs_with_the_issues_marks(tmp_path):
     assert table.loc["readings", "value"] == 2000
     assert (table.loc[["set_finding_time", "compass_1deg_time"], "value"] > 0).all()
     assert table.loc["compass_1deg_time", "mark"] == "under 2 s"
+
+
+def test_wedge_section_writes_its_costs_with_the_issues_marks(tmp_path):
+    small = {
+        "wedge_config": str(CONFIGS / "wedge.yaml"),
+        "study_config": str(CONFIGS / "sweeps" / "classic_wedge.yaml"),
+        "calls": 3,
+        "samples": 200,
+        "repeats": 1,
+    }
+    outcome, out = _bench(tmp_path, {"wedge": small}, "--only", "wedge")
+    assert outcome.exit_code == 0, outcome.output
+    table = pd.read_csv(out / "wedge_cost.csv").set_index("quantity")
+    assert list(table.columns) == ["value", "unit", "mark", "met"]
+    assert table.loc["combination_pairs", "value"] == 45
+    assert 0 < table.loc["combinations_formed", "value"] <= 45
+    assert table.loc["samples", "value"] == 200
+    timed = ["wedge_ms", "combinations_ms", "samples_per_second", "analysis_samples_per_second"]
+    assert (table.loc[timed, "value"] > 0).all()
+    assert table.loc["wedge_ms", "mark"] == "under 1 ms"
+    assert table.loc["samples_per_second", "mark"] == "at least 1e6"
+    assert set(table.loc[timed, "met"]) <= {True, False}
+    assert table.loc["samples", "met"] != table.loc["samples", "met"]  # no mark, no verdict (NaN)

@@ -357,12 +357,14 @@ def bench_command(config_path: Path, results: str, strict: bool, only: str | Non
     cost per step), bandwidth.csv (the memory bandwidth, a STREAM triad on 1 and every thread),
     bandwidth_limit.csv (bytes per sub-contact update, the most updates/s the bandwidth carries),
     support_cost.csv (support's cost where a scene has none; the design search's time),
+    kinematics_cost.csv (set finding, tallies, the compass, Monte Carlo draws per second),
+    wedge_cost.csv (one wedge, the pairs of 10 sets, wedge samples per second, against issue 35's marks),
     machine.csv (the machine, the run's dates, each section's time), tradeoff.png, scaling.png,
     provenance.json. `python -m bbmc.bench.page results/bench docs/benchmarks.md` writes the
     benchmarks page from them.
     Takes minutes; wall times depend on the machine: compare the ratios. Each section of the
     config (tradeoff, economy, scaling, engine_cost, fos, mobilized, sweep, laws, rockmass,
-    bandwidth, support) is optional;
+    bandwidth, support, kinematics, wedge) is optional;
     `bbmc bench --only scaling,engine_cost` runs those alone.
     """
     options = {} if only is None else {"only": [name.strip() for name in only.split(",")]}

@@ -402,4 +402,25 @@ core, best of {repeats}. The `mark` column gives issue 34's targets.
             )
         ],
     ),
+    Section(
+        "wedge",
+        "Wedge analysis",
+        """
+One deterministic wedge (Hoek & Bray's classic wedge of `{wedge_config}`, `cases.analyse_case`, the time
+per call over {calls} calls), the combination analysis of ten joint sets against its slope (45 pairs,
+`combinations.combination_table`, the time of one table), and {samples} probabilistic samples of the
+study `{study_config}`: `samples_per_second` through its sweep base (each sample's planes drawn by
+Fisher's K, the wedge analysed by the compiled fast path, its outcome row), `analysis_samples_per_second`
+the analysis alone (`probability.wedge_probability`) on planes drawn up front. Each the median of
+{repeats} fresh processes on one thread (NUMBA_NUM_THREADS=1). The `mark` column gives issue 35's
+targets and `met` whether the median meets them.
+""",
+        [
+            Table(
+                "wedge_cost",
+                "One wedge, ten sets' pairs and the probabilistic samples",
+                ["quantity", "value", "unit", "mark", "met"],
+            )
+        ],
+    ),
 ]

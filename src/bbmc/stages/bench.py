@@ -18,6 +18,8 @@ processes and on a 2-worker dask LocalCluster, and the overhead per task (`bbmc.
 bandwidth.csv / bandwidth_limit.csv: the memory bandwidth (a STREAM triad on 1 and every thread), the
 bytes one sub-contact update moves and the most updates per second that bandwidth carries
 (`bbmc.bench.bandwidth`).
+wedge_cost.csv: one deterministic wedge, the combination analysis of 10 joint sets and the probabilistic
+wedge samples per second, on one core, beside issue 35's marks (`bbmc.bench.wedge_cost`).
 support_cost.csv: where a scene has no support, this engine's time per step against the last commit
 before support elements; and the design search of a scene's `design:` section, its trials and wall
 time (`bbmc.bench.support_cost`).
@@ -61,6 +63,7 @@ from bbmc.bench.rockmass_cost import bridge_cost, rockmass_cost
 from bbmc.bench.scaling import scaling_figure, scaling_table
 from bbmc.bench.support_cost import support_cost_table
 from bbmc.bench.sweep_cost import sweep_cost_table
+from bbmc.bench.wedge_cost import wedge_cost_table
 from bbmc.config import ConfigError, InputFile, Section
 from bbmc.io import StageResult
 from bbmc.laws import stiffness, strength
@@ -79,6 +82,7 @@ SECTIONS = (
     "bandwidth",
     "support",
     "kinematics",
+    "wedge",
 )
 
 
@@ -212,6 +216,18 @@ class KinematicsCost(Section):
     repeats: Repeats
 
 
+class WedgeCost(Section):
+    """One deterministic wedge of `wedge_config` (over `calls` calls), the combination analysis of ten
+    sets against its slope, and `samples` probabilistic samples of the wedge study `study_config`, in
+    `repeats` fresh processes on one thread (`bbmc.bench.wedge_cost`)."""
+
+    wedge_config: InputFile
+    study_config: InputFile
+    calls: Annotated[int, Field(ge=1, le=1_000_000)] = 1000
+    samples: Annotated[int, Field(ge=100, le=10_000_000)] = 1_000_000
+    repeats: Repeats
+
+
 class Config(Section):
     """The paper's scenes and the sections to run (each optional, at least one given)."""
 
@@ -229,6 +245,7 @@ class Config(Section):
     bandwidth: Bandwidth | None = None
     support: SupportCost | None = None
     kinematics: KinematicsCost | None = None
+    wedge: WedgeCost | None = None
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
     @model_validator(mode="after")
@@ -432,6 +449,12 @@ def kinematics_part(config: Config, scenes: PaperScenes, progress: Callable[[str
                                                      progress)}, {}  # fmt: skip
 
 
+def wedge_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    w = config.wedge
+    table = wedge_cost_table(w.wedge_config, w.study_config, w.calls, w.samples, w.repeats, progress)
+    return {"wedge_cost": table}, {}
+
+
 PARTS = {
     "tradeoff": tradeoff_part,
     "economy": economy_part,
@@ -445,6 +468,7 @@ PARTS = {
     "bandwidth": bandwidth_part,
     "support": support_part,
     "kinematics": kinematics_part,
+    "wedge": wedge_part,
 }
 
 

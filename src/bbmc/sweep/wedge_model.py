@@ -108,9 +108,10 @@ class WedgeModel:
             return scatter.from_uniforms(u, v)
         dip, direction = np.empty(count), np.empty(count)
         kappa = np.broadcast_to(np.asarray(plane.fisher_k, dtype=float), (count,))
-        groups, where = np.unique(np.vstack([*means, kappa]), axis=1, return_inverse=True)
-        for g, (mean_dip, mean_direction, k) in enumerate(groups.T):
-            rows = np.flatnonzero(where.ravel() == g)
+        table = pd.DataFrame({"dip": means[0], "direction": means[1], "k": kappa})
+        # the samples sharing a mean and K, by hashing (np.unique(axis=1) sorts rows: ~2 s a million)
+        groups = table.groupby(list(table), sort=False, dropna=False).indices
+        for (mean_dip, mean_direction, k), rows in groups.items():
             scatter = PlaneScatter(math.radians(mean_dip), math.radians(mean_direction), fisher_k=k)
             dip[rows], direction[rows] = scatter.from_uniforms(u[rows], v[rows])
         return dip, direction

@@ -29,6 +29,7 @@ from bbmc.slope.wedge.essentials import WedgeEssentials, wedge_essentials
 from bbmc.slope.wedge.geometry import TensionCrack, WedgeGeometry, wedge_geometries
 from bbmc.slope.wedge.loads import WATER_UNIT_WEIGHT, horizontal_along, seismic_force
 from bbmc.slope.wedge.mechanics import PlaneStrength, WedgeSolution, active_resultant, wedge_factor_of_safety
+from bbmc.slope.wedge.vectors import spread
 from bbmc.slope.wedge.water import DRY, WaterModel, water_forces
 
 Array = NDArray[np.float64]
@@ -126,7 +127,7 @@ def wedge_loads(
     weight = np.asarray(unit_weight, dtype=float) * geometry.volume
     water_1, water_2, water_crack = water_forces(water, geometry, water_unit_weight)
     shape = np.broadcast_shapes(*(np.shape(v) for v in (weight, water_1, water_2, water_crack)))
-    weight = np.broadcast_to(weight, shape)
+    weight = spread(weight, shape)
     zero = np.zeros((*shape, 3))
     shaking = (
         zero
@@ -142,9 +143,9 @@ def wedge_loads(
     )
     return WedgeLoads(
         weight=weight,
-        water_1=np.broadcast_to(water_1, weight.shape) + 0.0,
-        water_2=np.broadcast_to(water_2, weight.shape) + 0.0,
-        water_crack=np.broadcast_to(water_crack, weight.shape) + 0.0,
+        water_1=spread(water_1, shape) + 0.0,
+        water_2=spread(water_2, shape) + 0.0,
+        water_crack=spread(water_crack, shape) + 0.0,
         seismic=shaking,
         forces=other,
         active=active,

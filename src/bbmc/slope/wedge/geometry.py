@@ -53,7 +53,7 @@ from numpy.typing import ArrayLike, NDArray
 from bbmc.geometry.orientation import downward, pole_components, trend_and_plunge
 from bbmc.slope.wedge.short_solution import ShortSolutionAngles, short_solution_angles
 from bbmc.slope.wedge.size_limits import LIMIT_NAMES, SizeLimit, SizeLimits, size_scale
-from bbmc.slope.wedge.vectors import cross, dot, norm, triangle_area, unit
+from bbmc.slope.wedge.vectors import cross, dot, norm, spread, stacked, triangle_area, unit
 
 Array = NDArray[np.float64]
 TOLERANCE = 1e-9  # sines and cosines of unit vectors closer to 0 than this count as 0 (parallel lines)
@@ -208,12 +208,8 @@ class WedgeGeometry:
 
 
 def _refuse(bad: NDArray[np.bool_], key: str, what: str) -> None:
-    if np.any(bad):
+    if bad.any():
         raise ValueError(f"{key}: {what}")
-
-
-def _stacked(x: Array, y: Array, z: Array) -> Array:
-    return np.stack(np.broadcast_arrays(x, y, z), axis=-1)
 
 
 def _plane_inputs(
@@ -225,11 +221,11 @@ def _plane_inputs(
         _refuse(~((value >= 0.0) & (value <= np.pi / 2.0)), key, "a dip must be 0 to 90 degrees")
     _refuse(~(dip["face_dip"] > 0.0), "face_dip", "the face must dip (> 0)")
     dip_1, dip_2, face, upper = dip.values()
-    pole_1 = _stacked(*pole_components(dip_1, directions[0]))
-    pole_2 = _stacked(*pole_components(dip_2, directions[1]))
+    pole_1 = stacked(*pole_components(dip_1, directions[0]))
+    pole_2 = stacked(*pole_components(dip_2, directions[1]))
     fx, fy, fz = pole_components(face, directions[2])
-    face_normal = _stacked(fx, fy, np.where(np.asarray(overhanging_face, dtype=bool), -fz, fz))
-    return pole_1, pole_2, face_normal, _stacked(*pole_components(upper, directions[3]))
+    face_normal = stacked(fx, fy, np.where(np.asarray(overhanging_face, dtype=bool), -fz, fz))
+    return pole_1, pole_2, face_normal, stacked(*pole_components(upper, directions[3]))
 
 
 def _point_on_upper(normal_p: Array, normal_q: Array, upper: Array) -> tuple[Array, Array]:
@@ -251,24 +247,26 @@ def _first_reasons(conditions: list[tuple[WedgeReason, NDArray[np.bool_]]]) -> N
 
 def _unit_wedge(
     pole_1: Array, pole_2: Array, face: Array, upper: Array
-) -> tuple[Array, Array, Array, list[tuple[WedgeReason, NDArray[np.bool_]]]]:
-    """C1, C2 and T for the upper surface u . x = 1, and the conditions of the wedge's forming."""
+) -> tuple[Array, Array, Array, Array, list[tuple[WedgeReason, NDArray[np.bool_]]]]:
+    """C1, C2 and T for the upper surface u . x = 1, the line of intersection (downward unit vector) and
+    the conditions of the wedge's forming."""
     crest_1, along_1 = _point_on_upper(pole_1, face, upper)
     crest_2, along_2 = _point_on_upper(pole_2, face, upper)
     top, along_line = _point_on_upper(pole_1, pole_2, upper)
     face_up = unit(np.array([0.0, 0.0, 1.0]) - face[..., 2:3] * face)
     convex = (norm(cross(face, upper)) > TOLERANCE) & (dot(upper, face_up) > TOLERANCE)
-    line = downward(unit(cross(pole_1, pole_2)))
+    across = cross(pole_1, pole_2)
+    line = downward(unit(across))
     behind = dot(face, top) < -TOLERANCE * norm(top)
     daylights = dot(face, line) > TOLERANCE
     conditions = [
         (WedgeReason.SLOPE_NOT_CONVEX, ~convex),
-        (WedgeReason.PARALLEL_PLANES, ~(norm(cross(pole_1, pole_2)) > TOLERANCE)),
+        (WedgeReason.PARALLEL_PLANES, ~(norm(across) > TOLERANCE)),
         (WedgeReason.TRACE_MISSES_CREST, ~((along_1 > TOLERANCE) & (along_2 > TOLERANCE))),
         (WedgeReason.NOT_DAYLIGHTING, ~behind & ~daylights),
         (WedgeReason.NOT_OUTCROPPING, ~behind | ~(along_line > TOLERANCE)),
     ]
-    return crest_1, crest_2, top, conditions
+    return crest_1, crest_2, top, line, conditions
 
 
 def _scale(
@@ -315,7 +313,7 @@ def _crack_cut(
     crack: TensionCrack, crest_1: Array, crest_2: Array, top: Array
 ) -> tuple[Array, Array, Array, Array, NDArray[np.bool_]]:
     """P, Q, R, the crack's normal into the wedge, and where the crack fails to cut off T alone."""
-    normal = _stacked(*pole_components(np.asarray(crack.dip, float), np.asarray(crack.dip_direction, float)))
+    normal = stacked(*pole_components(np.asarray(crack.dip, float), np.asarray(crack.dip_direction, float)))
     point = crest_1 + np.asarray(crack.distance, dtype=float)[..., None] * unit(top - crest_1)
     side_toe = -dot(normal, point)
     side_1, side_2, side_top = (dot(normal, vertex - point) for vertex in (crest_1, crest_2, top))
@@ -378,9 +376,11 @@ def _truncated(
     }
 
 
-def _masked(value: Array, formed: NDArray[np.bool_]) -> Array:
-    """`value` with NaN where the wedge does not form (a copy only where one does not)."""
-    if formed.all():
+def _masked(value: Array, shape: tuple[int, ...], formed: NDArray[np.bool_] | None) -> Array:
+    """`value` broadcast to `shape`, with NaN where the wedge does not form (`formed`; None where every
+    wedge forms: then no copy)."""
+    value = spread(value, shape)
+    if formed is None:
         return value
     value = np.array(value, dtype=float)
     value[~formed] = np.nan
@@ -416,7 +416,7 @@ def wedge_geometries(
         for d in (dip_direction_1, dip_direction_2, face_dip_direction, upper_dip_direction)
     )
     pole_1, pole_2, face, upper = _plane_inputs(dips, directions, overhanging_face)
-    crest_1, crest_2, top, conditions = _unit_wedge(pole_1, pole_2, face, upper)
+    crest_1, crest_2, top, line, conditions = _unit_wedge(pole_1, pole_2, face, upper)
     offset, below = _scale(crest_1, top, height_h1, height_h)
     conditions.append((WedgeReason.HEIGHT_BELOW_TOE, below))
     factor, limited_by = _limited(limits, crack, offset, (crest_1, crest_2, top), (face, upper))
@@ -435,8 +435,7 @@ def wedge_geometries(
         crack_points = {"crack_1": on_1, "crack_2": on_2, "crack_foot": foot, "normal_crack": normal_crack}
     reason = _first_reasons(conditions)
     shape = np.broadcast_shapes(reason.shape, factor.shape)  # limits may be the only arrays
-    reason = np.broadcast_to(reason, shape)
-    line = downward(unit(cross(pole_1, pole_2)))
+    reason = spread(reason, shape)
     trend, plunge = trend_and_plunge(line)
     line_out = unit(-top)
     plunge_out = np.arcsin(np.clip(-line_out[..., 2], -1.0, 1.0))
@@ -463,12 +462,15 @@ def wedge_geometries(
         }
     )
     formed = reason == WedgeReason.FORMED
+    partly = None if formed.all() else formed
     out = {
-        key: _masked(np.broadcast_to(value, shape + value.shape[-1:] if key in _VECTORS else shape), formed)
+        key: _masked(value, shape + value.shape[-1:] if key in _VECTORS else shape, partly)
         for key, value in values.items()
     }
-    short = ShortSolutionAngles(**{f.name: _masked(getattr(angles, f.name), formed) for f in fields(angles)})
-    limited_by = np.broadcast_to(limited_by, shape)
+    short = ShortSolutionAngles(
+        **{f.name: _masked(getattr(angles, f.name), shape, partly) for f in fields(angles)}
+    )
+    limited_by = spread(limited_by, shape)
     return WedgeGeometry(
         **out, short_solution=short, reason=reason, size_limited_by=limited_by, has_crack=crack is not None
     )

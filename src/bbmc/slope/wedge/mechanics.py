@@ -54,6 +54,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from bbmc.geometry.orientation import intersection_lines
+from bbmc.slope.wedge.vectors import spread
 
 DOWN = np.array([0.0, 0.0, -1.0])
 
@@ -225,7 +226,7 @@ def wedge_factor_of_safety(
     n1_vec, n2_vec = np.asarray(normal_1, dtype=float), np.asarray(normal_2, dtype=float)
     force = np.asarray(active, dtype=float)
     shape = np.broadcast_shapes(force.shape, n1_vec.shape, n2_vec.shape)
-    force, n1_vec, n2_vec = (np.broadcast_to(v, shape) for v in (force, n1_vec, n2_vec))
+    force, n1_vec, n2_vec = (spread(v, shape) for v in (force, n1_vec, n2_vec))
     st = _statics(force, n1_vec, n2_vec)
     both = st.mode >= SlidingMode.BOTH
     on_1, on_2 = st.mode == SlidingMode.PLANE_1, st.mode == SlidingMode.PLANE_2
@@ -248,7 +249,7 @@ def wedge_factor_of_safety(
     held = np.asarray(passive, dtype=float)
     against = 0.0
     if np.any(held):
-        held = np.broadcast_to(held, shape)
+        held = spread(held, shape)
         extra_1, extra_2, with_sliding = _passive_parts(held, n1_vec, n2_vec, force, st, driving)
         normal_on_1, normal_on_2, against = normal_on_1 + extra_1, normal_on_2 + extra_2, -with_sliding
     area_1, area_2 = np.asarray(area_1, dtype=float), np.asarray(area_2, dtype=float)
@@ -261,11 +262,11 @@ def wedge_factor_of_safety(
     fs = np.where(np.isnan(st.line[..., 0]), np.nan, fs)
     samples = fs.shape
     return WedgeSolution(
-        np.array(np.broadcast_to(st.mode, samples)),
-        np.array(np.broadcast_to(normal_on_1, samples)),
-        np.array(np.broadcast_to(normal_on_2, samples)),
-        np.array(np.broadcast_to(driving, samples)),
-        np.array(np.broadcast_to(resisting, samples)),
-        np.array(np.broadcast_to(direction, (*samples, 3))),
+        np.array(spread(st.mode, samples)),
+        np.array(spread(normal_on_1, samples)),
+        np.array(spread(normal_on_2, samples)),
+        np.array(spread(driving, samples)),
+        np.array(spread(resisting, samples)),
+        np.array(spread(direction, (*samples, 3))),
         fs,
     )
