@@ -131,7 +131,9 @@ def _rotate_free(blocks, damping, dt, i, q, momentum, moments):
     _axis_rotation(q, momentum, 1, 0.5 * dt, moments)
     _axis_rotation(q, momentum, 2, 0.5 * dt, moments)
     q[0], q[1], q[2], q[3] = normalised(q[0], q[1], q[2], q[3])
-    w = rotate(q[0], q[1], q[2], q[3], momentum[0] / moments[0], momentum[1] / moments[1], momentum[2] / moments[2])
+    w = rotate(
+        q[0], q[1], q[2], q[3], momentum[0] / moments[0], momentum[1] / moments[1], momentum[2] / moments[2]
+    )
     blocks[i, WX], blocks[i, WX + 1], blocks[i, WX + 2] = w
 
 
@@ -231,12 +233,19 @@ def move_blocks(blocks, dof, gravity, damping, dt, step):
 
 
 def step_motion(
-    blocks: np.ndarray, dof: np.ndarray, dt: float, gravity=(0.0, 0.0, -9.81), damping: float = 0.0, step: int = 0
+    blocks: np.ndarray,
+    dof: np.ndarray,
+    dt: float,
+    gravity=(0.0, 0.0, -9.81),
+    damping: float = 0.0,
+    step: int = 0,
 ) -> float:
     """One step of every block (`move_blocks`) from the forces and torques in its row [N, N m, world];
     `gravity` [m/s^2] is added as true mass x g, `damping` is Cundall's alpha [1], `step` decides whether
     prescribed velocities have started. Returns the largest movement since the last contact search [m]."""
-    return move_blocks(blocks, dof, np.asarray(gravity, dtype=np.float64), float(damping), float(dt), int(step))
+    return move_blocks(
+        blocks, dof, np.asarray(gravity, dtype=np.float64), float(damping), float(dt), int(step)
+    )
 
 
 def new_blocks(
@@ -251,7 +260,9 @@ def new_blocks(
     blocks = np.zeros((n, BLOCK_COLUMNS))
     for i in range(n):
         if not masses[i] > 0.0 or not np.all(moments[i] > 0.0):
-            raise ValueError(f"block {i}: mass and principal moments must be > 0, got {masses[i]}, {moments[i]}")
+            raise ValueError(
+                f"block {i}: mass and principal moments must be > 0, got {masses[i]}, {moments[i]}"
+            )
         blocks[i, QW : QW + 4] = quaternion_from_matrix(axes[i], f"block {i}")
     blocks[:, X : X + 3] = centroids
     blocks[:, XR : XR + 3] = centroids
@@ -278,7 +289,9 @@ def kinetic_energy(blocks: np.ndarray) -> np.ndarray:
     (w_k principal components) [J], from the velocities in the row."""
     w = body_angular_velocity(blocks)
     v = blocks[:, VX : VX + 3]
-    return 0.5 * blocks[:, MASS] * np.sum(v * v, axis=1) + 0.5 * np.sum(blocks[:, I1 : I1 + 3] * w * w, axis=1)
+    return 0.5 * blocks[:, MASS] * np.sum(v * v, axis=1) + 0.5 * np.sum(
+        blocks[:, I1 : I1 + 3] * w * w, axis=1
+    )
 
 
 def angular_momentum(blocks: np.ndarray) -> np.ndarray:

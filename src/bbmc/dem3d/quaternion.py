@@ -49,10 +49,7 @@ def rotate_back(q0, q1, q2, q3, v0, v1, v2):
 def from_rotation_vector(t0, t1, t2):
     """The unit quaternion of the rotation by the angle |t| about t / |t| [rad]."""
     angle = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-    if angle < SMALL_ANGLE:
-        s = 0.5 - angle * angle / 48.0
-    else:
-        s = math.sin(0.5 * angle) / angle
+    s = 0.5 - angle * angle / 48.0 if angle < SMALL_ANGLE else math.sin(0.5 * angle) / angle
     return math.cos(0.5 * angle), s * t0, s * t1, s * t2
 
 
