@@ -90,7 +90,7 @@ def test_upper_block_first_gives_the_opposite_normal():
     """Listed the other way round the normal still runs from A (now the upper cube) to B: (0, 0, -1)."""
     arrays = scene(box([0.3, 0.1, 1.0], [1.3, 1.1, 2.0]), box([0, 0, 0], [1, 1, 1]))
     s, kind, *_, nx, ny, nz = sat(arrays)
-    assert s == 0.0 and (nx, ny, nz) == (0.0, 0.0, -1.0)
+    assert kind == cg.AXIS_FACE_A and s == 0.0 and (nx, ny, nz) == (0.0, 0.0, -1.0)
     contact, *_, area, _, _, _ = patch(arrays)
     assert contact == cg.FACE_FACE and area == pytest.approx(0.7 * 0.9, abs=1e-12)
 
@@ -164,7 +164,7 @@ def _turned_pair():
     turn = Rotation.from_euler("z", 30, degrees=True)
     upper = box([0.4, -0.2, 0.999], [1.4, 0.8, 1.999], turn)
     lower = box([0, 0, 0], [1, 1, 1])
-    return scene(lower, upper), lower, upper
+    return scene(lower, upper), upper
 
 
 @pytest.mark.parametrize("refine", [0, 1, 2])
@@ -172,7 +172,7 @@ def test_sub_contact_shares_tile_the_overlap(refine):
     """Shares of refinement 0, 1, 2 (2, 8, 32 sub-contacts) sum to the overlap area (1e-12: sums of
     areas of order 1) and each non-empty share's centroid lies in the overlap; points are in the body
     frame; the gap is -1 mm everywhere (parallel faces)."""
-    arrays, lower, upper = _turned_pair()
+    arrays, upper = _turned_pair()
     contact, ref, inc, area, *_ = patch(arrays)
     assert contact == cg.FACE_FACE
     centre = np.array([0.5, 0.5, 0.5])
@@ -197,6 +197,7 @@ def test_sub_contact_shares_do_not_depend_on_refinement():
     so their resultant's position does not depend on it."""
     arrays, *_ = _turned_pair()
     contact, ref, inc, area, *centre = patch(arrays)
+    assert contact == cg.FACE_FACE
     for refine in range(3):
         _, share, _, centroid = subs(arrays, ref, inc, refine, np.zeros(3), np.eye(3))
         assert share @ centroid / area == pytest.approx(centre, abs=1e-12)
