@@ -1,0 +1,433 @@
+"""Contact geometry of two convex polyhedra: separating axis, contact plane, overlap area and the
+sub-contacts that carry it, as numba functions over flat arrays. Lengths in m, areas in m².
+
+Array layout (world coordinates; all indices global, over every block):
+
+* ``vertices`` float64 (n_vertices, 3); block k owns rows ``vertex_start[k]:vertex_start[k + 1]``.
+* ``face_vertices`` int64: every face's vertex loop, one after another, as rows of ``vertices``,
+  counter-clockwise seen from outside the block (the right-hand rule gives the outward normal);
+  face f's loop is ``face_vertices[face_start[f]:face_start[f + 1]]``.
+* ``block_face_start`` int64 (n_blocks + 1): block k owns faces ``block_face_start[k]:...[k + 1]``.
+* ``face_normal`` float64 (n_faces, 3): each face's outward unit normal.
+* An edge is named by its loop entry q (an index into ``face_vertices``): it runs from
+  ``face_vertices[q]`` to the next vertex of that loop. In a closed polyhedron every edge is met
+  twice, once each way; the one with the smaller first vertex is its name (`edge_ends`).
+
+Why a separating-axis test and not Cundall's common plane. 3DEC (Cundall 1988, "Formulation of a
+three-dimensional distinct element model - Part I", IJRMMS 25(3) 107-116) finds for each pair the
+plane that maximises the gap between the blocks, by iterating on the plane's normal and position from
+the last step's; contact type follows from counting vertices near that plane, and face contacts carry
+sub-contacts at the vertices of a face triangulation, each with a share of the area. YADE's polyhedra
+intersect the two blocks (CGAL) and load by the overlap VOLUME: no contact area, so neither a stress law
+nor a shear history at points of a joint. LMGC90 and Bullet/Box2D-style manifolds clip one face against
+the other. For convex polyhedra the separating-axis test over the face normals of both blocks and the
+cross products of their edges is exact (the faces of the Minkowski difference A - B have exactly those
+normals): it gives the verdict and, in overlap, the least penetration depth and its direction without
+iteration or a convergence tolerance, and at a face contact its plane is the reference face's plane,
+which is where a converged common plane lies as well. It is started from the last step's axis. The area
+then comes from clipping (Sutherland–Hodgman), exactly, not from counting vertices.
+
+Contact kinds (`FACE_FACE` ...): the least-penetration axis is a face normal of one block (the
+reference face; ties go to a face of A, then of B, then to edges, within `FACE_PREFERENCE` x size) and:
+
+* the other block has a face anti-parallel to it within `FACE_ANGLE` (the incident face): face–face,
+  the overlap is the incident face projected on the reference plane along the normal, clipped to the
+  reference face; its area may include parts still open (the stress integration closes what is closed);
+* else the other block's lowest vertex along the normal and its lowest neighbour, if that one lies within
+  size x sin(`FACE_ANGLE`) above it: edge–face, the edge clipped to the reference face, with the nominal
+  area length x `NOMINAL_WIDTH` x size;
+* else vertex–face at the lowest vertex, nominal area (`NOMINAL_WIDTH` x size)².
+
+The least-penetration axis is an edge–edge cross product: a point contact at the middle of the two
+edges' closest points, nominal area (`NOMINAL_WIDTH` x size)². The nominal areas let a law in stresses
+load a corner; they are small so that an edge or a corner is stiff only over a strip or a square of
+1 % of the block's size. (A known limit: a face that tilts past `FACE_ANGLE` drops from its face's area to
+the edge's nominal strip.)
+
+Sub-contacts of a face–face contact (`face_sub_contacts`): the reference face is cut into triangles, a
+fan from its first vertex, each split into four at its mid-sides `refine` times; a sub-contact sits at
+each triangle's centroid, fixed to the reference block, so it keeps its shear history as the blocks
+slide. Its share of the overlap is the triangle clipped to the overlap polygon, integrated exactly (area
+and centroid): shares never overlap, they tile the overlap, and they sum to its area whatever the
+refinement. 3DEC puts sub-contacts at the triangulation's vertices with a third of each neighbouring
+triangle's area, all or nothing as the vertex is inside the other face or not, which makes the area
+depend on the refinement; 2D bbmc's lesson (`bbmc.dem.contact_geometry`) was to integrate each share.
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from bbmc.dem3d.polygon_clip import clip_polygon, clip_segment, polygon_area_centroid
+
+AXIS_FACE_A, AXIS_FACE_B, AXIS_EDGES = 0, 1, 2  # the separating axis: a face normal of A, of B, edge x edge
+FACE_FACE, EDGE_FACE, VERTEX_FACE, EDGE_EDGE = 0, 1, 2, 3  # contact kinds
+FACE_ANGLE = math.radians(5.0)  # two faces facing each other within this angle are a face–face contact
+FACE_PREFERENCE = 1e-6  # x size [m]: an axis replaces an earlier one only if it separates by more
+NOMINAL_WIDTH = 0.01  # x size: width of an edge's strip and side of a corner's square of contact
+PARALLEL_EDGES = 1e-9  # |e_a x e_b| / (|e_a| |e_b|) below which two edges give no axis
+
+
+@numba.njit(cache=True, inline="always")
+def edge_ends(face_vertices, face_start, f, q):
+    """The two vertex rows of the edge at loop entry q of face f."""
+    nxt = q + 1 if q + 1 < face_start[f + 1] else face_start[f]
+    return face_vertices[q], face_vertices[nxt]
+
+
+@numba.njit(cache=True, inline="always")
+def _dot(vertices, v, nx, ny, nz):
+    return vertices[v, 0] * nx + vertices[v, 1] * ny + vertices[v, 2] * nz
+
+
+@numba.njit(cache=True)
+def _extent(vertices, first, last, nx, ny, nz):
+    """Least and greatest projection of vertices first..last-1 on (nx, ny, nz) [m]."""
+    lo, hi = math.inf, -math.inf
+    for v in range(first, last):
+        d = _dot(vertices, v, nx, ny, nz)
+        lo, hi = min(lo, d), max(hi, d)
+    return lo, hi
+
+
+@numba.njit(cache=True)
+def _face_separation(vertices, vertex_start, face_vertices, face_start, face_normal, f, other):
+    """How far block `other` lies outside the plane of face f [m] (its lowest vertex's height)."""
+    nx, ny, nz = face_normal[f, 0], face_normal[f, 1], face_normal[f, 2]
+    lo, _ = _extent(vertices, vertex_start[other], vertex_start[other + 1], nx, ny, nz)
+    return lo - _dot(vertices, face_vertices[face_start[f]], nx, ny, nz)
+
+
+@numba.njit(cache=True)
+def _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb):
+    """The unit axis e_a x e_b oriented from A to B (the orientation that separates more) and the
+    separation along it [m]; separation -inf for parallel edges."""
+    p0, p1 = edge_ends(face_vertices, face_start, fa, qa)
+    r0, r1 = edge_ends(face_vertices, face_start, fb, qb)
+    ex, ey, ez = (
+        vertices[p1, 0] - vertices[p0, 0],
+        vertices[p1, 1] - vertices[p0, 1],
+        vertices[p1, 2] - vertices[p0, 2],
+    )
+    gx, gy, gz = (
+        vertices[r1, 0] - vertices[r0, 0],
+        vertices[r1, 1] - vertices[r0, 1],
+        vertices[r1, 2] - vertices[r0, 2],
+    )
+    nx, ny, nz = ey * gz - ez * gy, ez * gx - ex * gz, ex * gy - ey * gx
+    norm = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if norm <= PARALLEL_EDGES * math.sqrt((ex * ex + ey * ey + ez * ez) * (gx * gx + gy * gy + gz * gz)):
+        return -math.inf, 0.0, 0.0, 0.0
+    nx, ny, nz = nx / norm, ny / norm, nz / norm
+    lo_a, hi_a = _extent(vertices, vertex_start[a], vertex_start[a + 1], nx, ny, nz)
+    lo_b, hi_b = _extent(vertices, vertex_start[b], vertex_start[b + 1], nx, ny, nz)
+    if lo_b - hi_a >= lo_a - hi_b:
+        return lo_b - hi_a, nx, ny, nz
+    return lo_a - hi_b, -nx, -ny, -nz
+
+
+@numba.njit(cache=True)
+def _axis(vertices, vertex_start, face_vertices, face_start, face_normal, a, b, kind, i, j, fi, fj):
+    """Separation [m] and unit normal (A towards B) along one candidate axis."""
+    if kind == AXIS_FACE_A:
+        s = _face_separation(vertices, vertex_start, face_vertices, face_start, face_normal, i, b)
+        return s, face_normal[i, 0], face_normal[i, 1], face_normal[i, 2]
+    if kind == AXIS_FACE_B:
+        s = _face_separation(vertices, vertex_start, face_vertices, face_start, face_normal, i, a)
+        return s, -face_normal[i, 0], -face_normal[i, 1], -face_normal[i, 2]
+    return _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fi, i, fj, j)
+
+
+@numba.njit(cache=True)
+def _face_of_entry(face_start, first_face, last_face, q):
+    """The face whose loop holds entry q (binary search over faces first_face..last_face-1)."""
+    lo, hi = first_face, last_face - 1
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if face_start[mid] <= q:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+@numba.njit(cache=True)
+def separating_axis(
+    vertices,
+    vertex_start,
+    face_vertices,
+    face_start,
+    block_face_start,
+    face_normal,
+    a,
+    b,
+    size,
+    margin,
+    cached_kind,
+    cached_i,
+    cached_j,
+):
+    """The separating-axis test of convex blocks a and b.
+
+    Separation along a unit axis n (from A towards B) is min over B of n.x - max over A of n.x [m]: > 0
+    apart by at least that much, <= 0 overlapping. Over the face normals of A (outward), of B (inward)
+    and the cross products of an edge of A and an edge of B (either orientation) its greatest value is
+    > 0 if and only if the blocks are apart, and in overlap its opposite is the penetration depth, the
+    shortest move that parts them (these axes are the face normals of the Minkowski difference A - B).
+    An axis replaces the best so far only if it separates by more than `FACE_PREFERENCE` x size [m], so
+    ties go to A's faces, then B's, then edges, in index order.
+
+    Started from the last step's axis (cached_kind >= 0, with cached_i and cached_j as returned): if that
+    axis still parts the blocks by more than `margin` [m] it is returned at once; so is, in a full test,
+    the first axis that does. Otherwise the full test runs and its answer does not depend on the cache.
+
+    Returns (separation [m], kind, i, j, nx, ny, nz): kind `AXIS_FACE_A` or `AXIS_FACE_B` with i the face
+    (j = -1), or `AXIS_EDGES` with i and j the loop entries naming the edges of A and of B; n from A
+    towards B.
+    """
+    first_fa, last_fa = block_face_start[a], block_face_start[a + 1]
+    first_fb, last_fb = block_face_start[b], block_face_start[b + 1]
+    if cached_kind >= 0:
+        fi = _face_of_entry(face_start, first_fa, last_fa, cached_i) if cached_kind == AXIS_EDGES else -1
+        fj = _face_of_entry(face_start, first_fb, last_fb, cached_j) if cached_kind == AXIS_EDGES else -1
+        s, nx, ny, nz = _axis(
+            vertices,
+            vertex_start,
+            face_vertices,
+            face_start,
+            face_normal,
+            a,
+            b,
+            cached_kind,
+            cached_i,
+            cached_j,
+            fi,
+            fj,
+        )
+        if s > margin:
+            return s, cached_kind, cached_i, cached_j, nx, ny, nz
+    tol = FACE_PREFERENCE * size
+    best, kind, bi, bj, bx, by, bz = -math.inf, -1, -1, -1, 0.0, 0.0, 0.0
+    for f in range(first_fa, last_fa):
+        s = _face_separation(vertices, vertex_start, face_vertices, face_start, face_normal, f, b)
+        if s > best + tol:
+            best, kind, bi, bx, by, bz = (
+                s,
+                AXIS_FACE_A,
+                f,
+                face_normal[f, 0],
+                face_normal[f, 1],
+                face_normal[f, 2],
+            )
+            if best > margin:
+                return best, kind, bi, bj, bx, by, bz
+    for f in range(first_fb, last_fb):
+        s = _face_separation(vertices, vertex_start, face_vertices, face_start, face_normal, f, a)
+        if s > best + tol:
+            best, kind, bi = s, AXIS_FACE_B, f
+            bx, by, bz = -face_normal[f, 0], -face_normal[f, 1], -face_normal[f, 2]
+            if best > margin:
+                return best, kind, bi, bj, bx, by, bz
+    for fa in range(first_fa, last_fa):
+        for qa in range(face_start[fa], face_start[fa + 1]):
+            pa0, pa1 = edge_ends(face_vertices, face_start, fa, qa)
+            if pa0 > pa1:
+                continue
+            for fb in range(first_fb, last_fb):
+                for qb in range(face_start[fb], face_start[fb + 1]):
+                    pb0, pb1 = edge_ends(face_vertices, face_start, fb, qb)
+                    if pb0 > pb1:
+                        continue
+                    s, nx, ny, nz = _edge_axis(
+                        vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb
+                    )
+                    if s > best + tol:
+                        best, kind, bi, bj, bx, by, bz = s, AXIS_EDGES, qa, qb, nx, ny, nz
+                        if best > margin:
+                            return best, kind, bi, bj, bx, by, bz
+    return best, kind, bi, bj, bx, by, bz
+
+
+@numba.njit(cache=True)
+def face_frame(vertices, face_vertices, face_start, face_normal, f):
+    """Origin (the face's first vertex) and in-plane unit axes s, t of face f, s x t = its normal."""
+    o = vertices[face_vertices[face_start[f]]].copy()
+    s = vertices[face_vertices[face_start[f] + 1]] - o
+    s /= math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+    n = face_normal[f]
+    t = np.array([n[1] * s[2] - n[2] * s[1], n[2] * s[0] - n[0] * s[2], n[0] * s[1] - n[1] * s[0]])
+    return o, s, t
+
+
+@numba.njit(cache=True)
+def _in_plane(vertices, face_vertices, face_start, f, o, s, t, reverse):
+    """Face f's loop in a plane's coordinates (projected along its normal), reversed if asked."""
+    first, n = face_start[f], face_start[f + 1] - face_start[f]
+    out = np.empty((n, 2))
+    for k in range(n):
+        d = vertices[face_vertices[first + (n - 1 - k if reverse else k)]] - o
+        out[k, 0], out[k, 1] = (
+            d[0] * s[0] + d[1] * s[1] + d[2] * s[2],
+            d[0] * t[0] + d[1] * t[1] + d[2] * t[2],
+        )
+    return out
+
+
+@numba.njit(cache=True)
+def face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc):
+    """The overlap of reference face `ref` and incident face `inc` (of the other block, facing it): the
+    incident face projected on the reference plane along its normal and clipped to the reference face
+    (Sutherland–Hodgman). Returns (polygon (k, 2) counter-clockwise in the reference face's (s, t)
+    coordinates [m], o, s, t: `face_frame` of the reference face)."""
+    o, s, t = face_frame(vertices, face_vertices, face_start, face_normal, ref)
+    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
+    incident = _in_plane(vertices, face_vertices, face_start, inc, o, s, t, True)
+    return clip_polygon(incident, reference), o, s, t
+
+
+@numba.njit(cache=True)
+def _facing_face(face_normal, first, last, nx, ny, nz):
+    """The face among first..last-1 most nearly opposite to n, and the cosine to n (-1: opposite)."""
+    best, cosine = -1, math.inf
+    for f in range(first, last):
+        c = face_normal[f, 0] * nx + face_normal[f, 1] * ny + face_normal[f, 2] * nz
+        if c < cosine:
+            best, cosine = f, c
+    return best, cosine
+
+
+@numba.njit(cache=True)
+def _lowest_corner(vertices, vertex_start, face_vertices, face_start, block_face_start, blk, nx, ny, nz):
+    """Block blk's lowest vertex along n and its lowest neighbour along an edge: (v, w, w's height above
+    v [m])."""
+    v, lowest = -1, math.inf
+    for k in range(vertex_start[blk], vertex_start[blk + 1]):
+        d = _dot(vertices, k, nx, ny, nz)
+        if d < lowest:
+            v, lowest = k, d
+    w, rise = -1, math.inf
+    for f in range(block_face_start[blk], block_face_start[blk + 1]):
+        for q in range(face_start[f], face_start[f + 1]):
+            p0, p1 = edge_ends(face_vertices, face_start, f, q)
+            if p0 == v and _dot(vertices, p1, nx, ny, nz) - lowest < rise:
+                w, rise = p1, _dot(vertices, p1, nx, ny, nz) - lowest
+    return v, w, rise
+
+
+@numba.njit(cache=True)
+def _closest_on_edges(p0, p1, r0, r1):
+    """The middle of the closest points of segments p0-p1 and r0-r1 (not parallel)."""
+    d1, d2, w = p1 - p0, r1 - r0, p0 - r0
+    a, b, c = d1 @ d1, d1 @ d2, d2 @ d2
+    d, e = d1 @ w, d2 @ w
+    denom = a * c - b * b
+    sc = min(max((b * e - c * d) / denom, 0.0), 1.0)
+    tc = min(max((b * sc + e) / c, 0.0), 1.0)
+    sc = min(max((b * tc - d) / a, 0.0), 1.0)
+    return 0.5 * (p0 + sc * d1 + r0 + tc * d2)
+
+
+@numba.njit(cache=True)
+def contact_patch(
+    vertices, vertex_start, face_vertices, face_start, block_face_start, face_normal, a, b, size, kind, i, j
+):
+    """The contact of blocks a and b on the axis `separating_axis` returned (kind, i, j).
+
+    Returns (contact kind, reference face, incident face, area [m²], centroid x, y, z [m]): the reference
+    face is the face whose normal is the axis (-1 for edge–edge), the incident face the other block's
+    face facing it (-1 unless face–face); the area is the overlap's (face–face) or nominal (module
+    docstring); the centroid lies on the reference plane (face–face, edge–face, vertex–face) or between
+    the two edges (edge–edge). An edge or corner that projects outside the reference face gives area 0.
+    """
+    w = NOMINAL_WIDTH * size
+    if kind == AXIS_EDGES:
+        fa = _face_of_entry(face_start, block_face_start[a], block_face_start[a + 1], i)
+        fb = _face_of_entry(face_start, block_face_start[b], block_face_start[b + 1], j)
+        p0, p1 = edge_ends(face_vertices, face_start, fa, i)
+        r0, r1 = edge_ends(face_vertices, face_start, fb, j)
+        c = _closest_on_edges(vertices[p0], vertices[p1], vertices[r0], vertices[r1])
+        return EDGE_EDGE, -1, -1, w * w, c[0], c[1], c[2]
+    ref, other = i, b if kind == AXIS_FACE_A else a
+    nx, ny, nz = face_normal[ref, 0], face_normal[ref, 1], face_normal[ref, 2]
+    inc, cosine = _facing_face(face_normal, block_face_start[other], block_face_start[other + 1], nx, ny, nz)
+    if cosine <= -math.cos(FACE_ANGLE):
+        poly, o, s, t = face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
+        area, cs, ct = polygon_area_centroid(poly)
+        c = o + cs * s + ct * t
+        return FACE_FACE, ref, inc, area, c[0], c[1], c[2]
+    o, s, t = face_frame(vertices, face_vertices, face_start, face_normal, ref)
+    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
+    v, u, rise = _lowest_corner(
+        vertices, vertex_start, face_vertices, face_start, block_face_start, other, nx, ny, nz
+    )
+    dv, du = vertices[v] - o, vertices[u] - o
+    pv = np.array([dv @ s, dv @ t])
+    if rise <= size * math.sin(FACE_ANGLE):
+        inside, q0, q1 = clip_segment(pv, np.array([du @ s, du @ t]), reference)
+        if not inside:
+            return EDGE_FACE, ref, -1, 0.0, vertices[v, 0], vertices[v, 1], vertices[v, 2]
+        m = 0.5 * (q0 + q1)
+        c = o + m[0] * s + m[1] * t
+        return EDGE_FACE, ref, -1, math.sqrt((q1 - q0) @ (q1 - q0)) * w, c[0], c[1], c[2]
+    inside, _, _ = clip_segment(pv, pv, reference)
+    c = o + pv[0] * s + pv[1] * t
+    return VERTEX_FACE, ref, -1, w * w if inside else 0.0, c[0], c[1], c[2]
+
+
+@numba.njit(cache=True)
+def _fan(poly, refine):
+    """Triangles (m, 3, 2) of a convex counter-clockwise polygon: a fan from its first vertex, each
+    triangle split into four at its mid-sides `refine` times, in a fixed order."""
+    n = poly.shape[0] - 2
+    tri = np.empty((n, 3, 2))
+    for k in range(n):
+        tri[k, 0], tri[k, 1], tri[k, 2] = poly[0], poly[k + 1], poly[k + 2]
+    for _ in range(refine):
+        finer = np.empty((4 * tri.shape[0], 3, 2))
+        for k in range(tri.shape[0]):
+            p, q, r = tri[k, 0], tri[k, 1], tri[k, 2]
+            pq, qr, rp = 0.5 * (p + q), 0.5 * (q + r), 0.5 * (r + p)
+            finer[4 * k, 0], finer[4 * k, 1], finer[4 * k, 2] = p, pq, rp
+            finer[4 * k + 1, 0], finer[4 * k + 1, 1], finer[4 * k + 1, 2] = pq, q, qr
+            finer[4 * k + 2, 0], finer[4 * k + 2, 1], finer[4 * k + 2, 2] = rp, qr, r
+            finer[4 * k + 3, 0], finer[4 * k + 3, 1], finer[4 * k + 3, 2] = qr, rp, pq
+        tri = finer
+    return tri
+
+
+@numba.njit(cache=True)
+def face_sub_contacts(vertices, face_vertices, face_start, face_normal, ref, inc, refine, centre, rotation):
+    """The sub-contacts of a face–face contact between reference face `ref` and incident face `inc`.
+
+    The reference face is cut into (n - 2) 4^refine triangles (`_fan`, n its vertex count); sub-contact
+    k sits at triangle k's centroid. Its share is triangle k clipped to the overlap polygon
+    (`face_overlap`), its area and centroid integrated exactly; the shares tile the overlap.
+
+    centre (3,) and rotation (3, 3) place the reference block: x_world = centre + rotation @ x_body.
+
+    Returns (points (m, 3): the sub-contacts in the reference block's body frame [m]; area (m,): each
+    share's area [m²]; gap (m,): the gap at each share's centroid [m], the signed distance along the
+    reference normal from the reference plane to the incident face's plane (> 0 open; for rigid faces
+    it is linear over the plane, so it is also the share's mean gap); centroid (m, 3): each share's
+    centroid in world coordinates [m], the triangle's centroid where its share is empty).
+    """
+    poly, o, s, t = face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
+    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
+    tri = _fan(reference, refine)
+    m = tri.shape[0]
+    n, ni = face_normal[ref], face_normal[inc]
+    d_inc = vertices[face_vertices[face_start[inc]]] @ ni
+    facing = ni @ n
+    points, area, gap, centroid = np.empty((m, 3)), np.empty(m), np.empty(m), np.empty((m, 3))
+    for k in range(m):
+        mid = (tri[k, 0] + tri[k, 1] + tri[k, 2]) / 3.0
+        world = o + mid[0] * s + mid[1] * t
+        points[k] = rotation.T @ (world - centre)
+        share = clip_polygon(tri[k], poly) if poly.shape[0] >= 3 else poly
+        area[k], cs, ct = polygon_area_centroid(share)
+        if area[k] == 0.0:
+            cs, ct = mid[0], mid[1]
+        centroid[k] = o + cs * s + ct * t
+        gap[k] = (d_inc - ni @ centroid[k]) / facing
+    return points, area, gap, centroid

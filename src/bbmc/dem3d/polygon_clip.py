@@ -1,0 +1,92 @@
+"""Convex polygons in a contact plane: Sutherland–Hodgman clipping, a segment clipped to a polygon,
+and the area and centroid of a polygon, as numba functions over (n, 2) float64 arrays [m].
+
+Polygons are counter-clockwise vertex loops in the plane's own coordinates (s, t). Clipping a convex
+subject polygon by a convex clip polygon keeps, edge by edge of the clip polygon, the part of the
+subject on the left of that edge (Sutherland & Hodgman 1974, "Reentrant polygon clipping", Comm. ACM
+17(1)); the result is their intersection, convex, with at most n + m vertices.
+"""
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True, inline="always")
+def _side(c0, c1, p):
+    """Twice the signed area of triangle (c0, c1, p) [m²]: > 0 with p on the left of c0 -> c1."""
+    return (c1[0] - c0[0]) * (p[1] - c0[1]) - (c1[1] - c0[1]) * (p[0] - c0[0])
+
+
+@numba.njit(cache=True)
+def clip_polygon(subject, clip):
+    """The intersection of two convex counter-clockwise polygons (Sutherland–Hodgman), as an (k, 2)
+    counter-clockwise polygon; k = 0 where they do not overlap."""
+    cap = subject.shape[0] + clip.shape[0] + 1
+    out = np.empty((cap, 2))
+    work = np.empty((cap, 2))
+    n = subject.shape[0]
+    out[:n] = subject
+    m = clip.shape[0]
+    for c in range(m):
+        if n == 0:
+            break
+        c0, c1 = clip[c], clip[(c + 1) % m]
+        work[:n] = out[:n]
+        k = 0
+        for i in range(n):
+            s, e = work[i - 1 if i > 0 else n - 1], work[i]
+            ds, de = _side(c0, c1, s), _side(c0, c1, e)
+            if de >= 0.0:
+                if ds < 0.0:
+                    t = ds / (ds - de)
+                    out[k, 0], out[k, 1] = s[0] + t * (e[0] - s[0]), s[1] + t * (e[1] - s[1])
+                    k += 1
+                out[k] = e
+                k += 1
+            elif ds >= 0.0:
+                t = ds / (ds - de)
+                out[k, 0], out[k, 1] = s[0] + t * (e[0] - s[0]), s[1] + t * (e[1] - s[1])
+                k += 1
+        n = k
+    return out[:n].copy()
+
+
+@numba.njit(cache=True)
+def clip_segment(p0, p1, clip):
+    """Segment p0 -> p1 clipped to a convex counter-clockwise polygon (Cyrus–Beck): (inside, q0, q1),
+    q0 and q1 the ends of the part inside, inside False where none of it is."""
+    lo, hi = 0.0, 1.0
+    m = clip.shape[0]
+    for c in range(m):
+        c0, c1 = clip[c], clip[(c + 1) % m]
+        d0, d1 = _side(c0, c1, p0), _side(c0, c1, p1)
+        if d0 < 0.0 and d1 < 0.0:
+            return False, p0.copy(), p1.copy()
+        if d0 < 0.0:
+            lo = max(lo, d0 / (d0 - d1))
+        elif d1 < 0.0:
+            hi = min(hi, d0 / (d0 - d1))
+    if hi < lo:
+        return False, p0.copy(), p1.copy()
+    return True, p0 + lo * (p1 - p0), p0 + hi * (p1 - p0)
+
+
+@numba.njit(cache=True)
+def polygon_area_centroid(poly):
+    """Area [m²] and centroid (s, t) [m] of a counter-clockwise polygon (shoelace formula, about its
+    first vertex to keep round-off small); (0, first vertex) for fewer than 3 vertices or no area."""
+    n = poly.shape[0]
+    if n < 3:
+        return (0.0, poly[0, 0], poly[0, 1]) if n > 0 else (0.0, 0.0, 0.0)
+    ox, oy = poly[0, 0], poly[0, 1]
+    twice, sx, sy = 0.0, 0.0, 0.0
+    for i in range(1, n - 1):
+        ax, ay = poly[i, 0] - ox, poly[i, 1] - oy
+        bx, by = poly[i + 1, 0] - ox, poly[i + 1, 1] - oy
+        cross = ax * by - ay * bx
+        twice += cross
+        sx += cross * (ax + bx)
+        sy += cross * (ay + by)
+    if twice <= 0.0:
+        return 0.0, ox, oy
+    return 0.5 * twice, ox + sx / (3.0 * twice), oy + sy / (3.0 * twice)
