@@ -285,6 +285,8 @@ def _points_fault(vertices: np.ndarray) -> str | None:
     with np.errstate(over="ignore"):
         size = _size(vertices)
     reach = float(np.abs(vertices).max())
+    if size == 0.0:
+        return "all its vertices are at one point"
     if not 1e-60 <= size <= 1e60:
         return f"its size ({size:.3g} m across) is beyond what floating point holds in its inertia (size^5)"
     if not size > TOLERANCE * reach:
@@ -403,13 +405,6 @@ def _oriented(unit: np.ndarray, loops: Sequence[np.ndarray]) -> list[np.ndarray]
 
 def _solid_fault(unit: np.ndarray, loops: Sequence[np.ndarray]) -> str | None:
     """Why vertices (n, 3) at unit size (mean 0) and face loops make no convex solid, or None."""
-    count = np.bincount(np.concatenate(loops), minlength=len(unit))
-    if np.any(count < 3):
-        k = int(np.argmax(count < 3))
-        return (
-            f"vertex {k} is not a corner (it is on {count[k]} faces, fewer than 3: inside the solid, "
-            "or on one of its faces or edges)"
-        )
     edge_faces: dict[tuple[int, int], list[int]] = {}
     for f, loop in enumerate(loops):
         for a, b in zip(loop, np.roll(loop, -1), strict=True):
@@ -417,6 +412,13 @@ def _solid_fault(unit: np.ndarray, loops: Sequence[np.ndarray]) -> str | None:
     for (a, b), faces in edge_faces.items():
         if len(faces) != 2:
             return f"its faces do not close a surface (edge {a}-{b} is on {len(faces)} faces, not 2)"
+    count = np.bincount(np.concatenate(loops), minlength=len(unit))
+    if np.any(count < 3):
+        k = int(np.argmax(count < 3))
+        return (
+            f"vertex {k} is not a corner (it is on {count[k]} faces, fewer than 3: inside the solid, "
+            "or on one of its faces or edges)"
+        )
     loops = _oriented(unit, loops)
     normals, offsets = _loop_planes(unit, loops)
     for f, (loop, normal, offset) in enumerate(zip(loops, normals, offsets, strict=True)):
