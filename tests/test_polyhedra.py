@@ -63,7 +63,7 @@ def test_regular_tetrahedron_against_closed_form():
     """Edge a: V = a^3 / (6 sqrt 2), and the inertia about the centroid is isotropic, m a^2 / 20."""
     a = 2.0
     corners = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], dtype=float) * a / np.sqrt(8)
-    props = mass_properties(from_vertices(corners + [3.0, -2.0, 7.0]), 1.0)
+    props = mass_properties(from_vertices(corners + np.array([3.0, -2.0, 7.0])), 1.0)
     assert props.volume == pytest.approx(a**3 / (6 * np.sqrt(2)), rel=ROUNDING)
     np.testing.assert_allclose(props.centroid, [3.0, -2.0, 7.0], atol=ROUNDING * 10)
     np.testing.assert_allclose(props.inertia, np.eye(3) * props.mass * a * a / 20, atol=ROUNDING)
@@ -286,14 +286,14 @@ def test_non_convex_solid_with_given_faces_refused():
     and are flat, but it is no convex solid."""
     points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.3, 0.3, 1.0], [0.3, 0.3, 0.2]]
     faces = [[0, 1, 3], [1, 2, 3], [2, 0, 3], [1, 0, 4], [2, 1, 4], [0, 2, 4]]
-    with pytest.raises(ValueError, match="^dent: it is not convex"):
+    with pytest.raises(ValueError, match=r"^dent: it is not convex"):
         from_vertices(points, faces, name="dent")
     fine = from_vertices(_with(points, 4, [0.3, 0.3, -0.5]), faces)
     assert volume(fine) == pytest.approx(0.5 * 1.5 / 3, rel=ROUNDING)
 
 
 def test_box_refuses_an_inverted_corner():
-    with pytest.raises(ValueError, match="^wall: a box needs lo < hi"):
+    with pytest.raises(ValueError, match=r"^wall: a box needs lo < hi"):
         box([0, 0, 0], [1, -1, 1], name="wall")
 
 
