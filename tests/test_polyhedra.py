@@ -6,16 +6,8 @@ import pytest
 from scipy.spatial import ConvexHull, Delaunay
 from scipy.spatial.transform import Rotation
 
-from bbmc.geometry.polyhedra import (
-    UNTAGGED,
-    box,
-    extrude,
-    from_vertices,
-    mass_properties,
-    moved,
-    polyhedron_fault,
-    volume,
-)
+from bbmc.geometry.polyhedra import UNTAGGED, box, extrude, from_vertices, moved, polyhedron_fault
+from bbmc.geometry.polyhedron_mass import mass_properties, volume
 
 # Sums of a handful of products of numbers of order 1: exact but for rounding, a few ulp each.
 ROUNDING = 1e-12

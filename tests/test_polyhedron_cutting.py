@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
-from bbmc.geometry.polyhedra import UNTAGGED, box, from_vertices, mass_properties, polyhedron_fault, volume
+from bbmc.geometry.polyhedra import UNTAGGED, box, from_vertices, polyhedron_fault
 from bbmc.geometry.polyhedron_cutting import cut, cut_by_joint_sets, set_normal
+from bbmc.geometry.polyhedron_mass import mass_properties, volume
 
 # Volumes and centroids are sums of a few dozen products of numbers of order 1-10: rounding only.
 ROUNDING = 1e-12

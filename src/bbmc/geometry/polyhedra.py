@@ -1,5 +1,7 @@
-"""Rigid convex polyhedra as data: vertices, faces as vertex loops with their planes, edges, and their
-mass properties (volume, centroid, inertia tensor, principal moments and axes).
+"""Rigid convex polyhedra as data: vertices, faces as vertex loops with their planes, and edges; built
+from points (faces from the convex hull), from given faces, as boxes or as extrusions of 2D blocks, and
+checked at load. Their mass properties: `bbmc.geometry.polyhedron_mass`; cutting them by planes and
+joint sets: `bbmc.geometry.polyhedron_cutting`.
 
 Axes: x east, y north, z up (`bbmc.geometry.orientation`); metres. Plain numpy.
 
@@ -63,20 +65,6 @@ class Polyhedron:
     def faces(self) -> tuple[np.ndarray, ...]:
         """Every face's vertex indices (`face`)."""
         return tuple(np.split(self.face_vertices, self.face_start[1:-1]))
-
-
-@dataclass(frozen=True)
-class MassProperties:
-    """`volume` [m^3], `mass` [kg], `centroid` (3,) [m], `inertia` (3, 3) [kg m^2] about the centroid in
-    the world axes, `principal_moments` (3,) [kg m^2] ascending and `principal_axes` (3, 3) whose columns
-    are the matching unit axes: a rotation (det +1), inertia = axes @ diag(moments) @ axes.T."""
-
-    volume: float
-    mass: float
-    centroid: np.ndarray
-    inertia: np.ndarray
-    principal_moments: np.ndarray
-    principal_axes: np.ndarray
 
 
 def from_vertices(
@@ -153,53 +141,6 @@ def moved(block: Polyhedron, rotation: np.ndarray, translation: np.ndarray) -> P
     )
 
 
-def mass_properties(block: Polyhedron, density: float = 1.0) -> MassProperties:
-    """Volume, mass, centroid and inertia tensor of a uniform solid of `density` [kg/m^3], exact for a
-    polyhedron: the sum over tetrahedra (m, a, b, c) from the vertices' mean m to each face's fan
-    triangles (a, b, c), with relative corners p, q, r:
-
-    * volume V = (p x q) . r / 6 (signed: each > 0 for a convex block, m inside);
-    * first moment V (p + q + r) / 4;
-    * second moment S = integral of x x^T dV = V / 20 (p p^T + q q^T + r r^T + s s^T), s = p + q + r
-      (the tetrahedron's canonical covariance; Tonon 2004, "Explicit exact formulas for the 3-D
-      tetrahedron inertia tensor in terms of its vertex coordinates", J. Math. Stat. 1(1), eqs. 2-8);
-    * about the centroid c: S_c = S - V c c^T, and the inertia I = rho (tr(S_c) 1 - S_c).
-
-    Summed about m, not the origin, so a block far from the origin is not the difference of large
-    numbers (the 2D `mass_properties`' lesson). Principal axes: the eigenvectors of I, moments
-    ascending; each axis turned so its largest component is positive, then the last one flipped if
-    needed to make a right-handed frame."""
-    mean, (p, q, r), volumes = _tetrahedra(block)
-    s = p + q + r
-    volume = float(volumes.sum())
-    centre = (volumes @ s) / (4.0 * volume)
-    second = np.einsum("i,ij,ik->jk", volumes / 20.0, p, p)
-    for corner in (q, r, s):
-        second += np.einsum("i,ij,ik->jk", volumes / 20.0, corner, corner)
-    second -= volume * np.outer(centre, centre)
-    inertia = density * (np.trace(second) * np.eye(3) - second)
-    inertia = 0.5 * (inertia + inertia.T)
-    moments, axes = np.linalg.eigh(inertia)
-    biggest = np.abs(axes).argmax(axis=0)
-    axes = axes * np.sign(axes[biggest, np.arange(3)])
-    axes[:, 2] *= np.sign(np.linalg.det(axes))
-    return MassProperties(volume, density * volume, centre + mean, inertia, moments, axes)
-
-
-def volume(block: Polyhedron) -> float:
-    """The block's volume [m^3]: the sum of the signed volumes (p x q) . r / 6 of the tetrahedra from
-    the vertices' mean to each face's fan triangles (`mass_properties`)."""
-    return float(_tetrahedra(block)[2].sum())
-
-
-def _tetrahedra(block: Polyhedron) -> tuple[np.ndarray, tuple[np.ndarray, ...], np.ndarray]:
-    """The vertices' mean m, the corners p, q, r (t, 3) of each face's fan triangles relative to m, and
-    each tetrahedron's signed volume (p x q) . r / 6 (t,)."""
-    mean = block.vertices.mean(axis=0)
-    p, q, r = (block.vertices[corner] - mean for corner in _fan_triangles(block))
-    return mean, (p, q, r), np.einsum("ij,ij->i", _cross(p, q), r) / 6.0
-
-
 def polyhedron_fault(block: Polyhedron) -> str | None:
     """Why `block` is no rigid convex polyhedron (`from_vertices`' checks on its vertices and loops,
     and its normals and offsets against its loops), or None."""
@@ -252,7 +193,7 @@ def _size(vertices: np.ndarray) -> float:
     return float(np.linalg.norm(np.ptp(vertices, axis=0)))
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross products of (n, 3) arrays (np.cross's axis handling costs more on small arrays)."""
     return np.column_stack(
         [
@@ -261,17 +202,6 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
             a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
         ]
     )
-
-
-def _fan_triangles(block: Polyhedron) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Each face split into the triangles (v_0, v_i, v_i+1), 0 < i < k - 1, of its loop of k vertices:
-    three index arrays."""
-    lengths = np.diff(block.face_start)
-    first = np.repeat(block.face_start[:-1], lengths)
-    position = np.arange(len(block.face_vertices)) - first
-    middle = np.flatnonzero((position >= 1) & (position <= np.repeat(lengths, lengths) - 2))
-    flat = block.face_vertices
-    return flat[first[middle]], flat[middle], flat[middle + 1]
 
 
 def _points_fault(vertices: np.ndarray) -> str | None:
@@ -312,7 +242,7 @@ def _hull_faces(unit: np.ndarray) -> list[np.ndarray] | str:
     triangles = hull.simplices.copy()
     normals = hull.equations[:, :3]
     corner = unit[triangles[:, 0]]
-    area = _cross(unit[triangles[:, 1]] - corner, unit[triangles[:, 2]] - corner)
+    area = cross_rows(unit[triangles[:, 1]] - corner, unit[triangles[:, 2]] - corner)
     flip = np.einsum("ij,ij->i", area, normals) < 0
     triangles[flip] = triangles[flip][:, ::-1]
     group = np.full(len(triangles), -1)
@@ -385,7 +315,7 @@ def _planes(
     """Each loop's unit normal by Newell's method (the normalised area vector, sum of p_i x p_i+1 / 2)
     and its plane's offset, the mean of n . p over the loop (flat loops, their starts, and each entry's
     successor)."""
-    normals = np.add.reduceat(_cross(unit[flat], unit[following]), start[:-1])
+    normals = np.add.reduceat(cross_rows(unit[flat], unit[following]), start[:-1])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     centres = np.add.reduceat(unit[flat], start[:-1]) / np.diff(start)[:, None]
     return normals, np.sum(centres * normals, axis=1)

@@ -27,8 +27,8 @@ from bbmc.geometry.polyhedra import (
     Polyhedron,
     assembled,
     successor_entries,
-    volume,
 )
+from bbmc.geometry.polyhedron_mass import volume
 
 # A persistent joint set: dip [deg], dip direction [deg], spacing [m], origin (x, y, z) [m].
 JointSet3D = tuple[float, float, float, Sequence[float]]
