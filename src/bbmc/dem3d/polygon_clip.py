@@ -90,3 +90,57 @@ def polygon_area_centroid(poly):
     if twice <= 0.0:
         return 0.0, ox, oy
     return 0.5 * twice, ox + sx / (3.0 * twice), oy + sy / (3.0 * twice)
+
+
+@numba.njit(cache=True)
+def clip_half_plane(poly, a, b, c):
+    """The part of a convex counter-clockwise polygon where a s + b t + c >= 0 (one Sutherland–Hodgman
+    pass against a line), counter-clockwise; (0, 2) where none of it is."""
+    n = poly.shape[0]
+    out = np.empty((n + 1, 2))
+    k = 0
+    for i in range(n):
+        s, e = poly[i - 1 if i > 0 else n - 1], poly[i]
+        ds, de = a * s[0] + b * s[1] + c, a * e[0] + b * e[1] + c
+        if de >= 0.0:
+            if ds < 0.0:
+                u = ds / (ds - de)
+                out[k, 0], out[k, 1] = s[0] + u * (e[0] - s[0]), s[1] + u * (e[1] - s[1])
+                k += 1
+            out[k] = e
+            k += 1
+        elif ds >= 0.0:
+            u = ds / (ds - de)
+            out[k, 0], out[k, 1] = s[0] + u * (e[0] - s[0]), s[1] + u * (e[1] - s[1])
+            k += 1
+    return out[:k].copy()
+
+
+@numba.njit(cache=True)
+def polygon_moments(poly):
+    """Area A [m²], centroid (s, t) [m] and second moments about the centroid, the integrals of
+    (s - s_c)², (s - s_c)(t - t_c) and (t - t_c)² over the polygon [m⁴], of a counter-clockwise polygon:
+    summed over its fan of triangles (o, a, b) from its first vertex o, each exact: with a, b relative
+    to o and d the triangle's area, the integrals of s², s t and t² are d (a_s² + a_s b_s + b_s²) / 6,
+    d (2 a_s a_t + a_s b_t + b_s a_t + 2 b_s b_t) / 12 and d (a_t² + a_t b_t + b_t²) / 6, moved to the
+    centroid by the parallel-axis theorem. Zeros for fewer
+    than 3 vertices or no area."""
+    n = poly.shape[0]
+    if n < 3:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    ox, oy = poly[0, 0], poly[0, 1]
+    area, sx, sy, sxx, sxy, syy = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    for i in range(1, n - 1):
+        ax, ay = poly[i, 0] - ox, poly[i, 1] - oy
+        bx, by = poly[i + 1, 0] - ox, poly[i + 1, 1] - oy
+        d = 0.5 * (ax * by - ay * bx)  # the triangle (o, a, b)'s area
+        area += d
+        sx += d * (ax + bx) / 3.0
+        sy += d * (ay + by) / 3.0
+        sxx += d * (ax * ax + ax * bx + bx * bx) / 6.0
+        sxy += d * (2.0 * ax * ay + ax * by + bx * ay + 2.0 * bx * by) / 12.0
+        syy += d * (ay * ay + ay * by + by * by) / 6.0
+    if area <= 0.0:
+        return 0.0, ox, oy, 0.0, 0.0, 0.0
+    cx, cy = sx / area, sy / area
+    return area, ox + cx, oy + cy, sxx - area * cx * cx, sxy - area * cx * cy, syy - area * cy * cy

@@ -1,0 +1,110 @@
+"""Contact properties of the 3D engine: its joint types as flat tables, and each sub-contact's
+Mohr-Coulomb strength from them, by the scalar laws of `bbmc.laws` (the same code as the 2D engine's).
+
+A joint type is one row of `law_codes` (int64, LAW_COLUMNS) and one of `law_params` (float64,
+PARAMETERS), SI: stiffnesses in Pa/m, stresses in Pa, angles in rad. Laws so far:
+
+* `MohrCoulomb`: constant K_n, K_s, cohesion c and friction phi; ``after_slip`` ``keep`` (the cohesion
+  stays, as limit equilibrium counts it) or ``zero`` (Itasca's Coulomb slip: c = 0 from the first slip).
+* `BartonBandis`: constant K_n, K_s and the paper's equivalent Mohr-Coulomb strength, the tangent to the
+  Barton-Bandis peak envelope at the sub-contact's own sigma_n (`bbmc.laws.strength`, paper eqs 9-15):
+  tan(phi) = d tau_p / d sigma_n, c = tau_p - sigma_n tan(phi); ``after_slip = zero`` drops c.
+
+A new law is a dataclass here, a code and one branch in `strength`. Strength reduction divides the shear
+strength c + sigma_n tan(phi) by P_STRENGTH_DIVISOR (1 otherwise), as the 2D engine does.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from bbmc.laws.strength import equivalent_cohesion, equivalent_friction_angle, exact_tangent_coefficient
+
+# --- law_codes: int64 (n_types, LAW_COLUMNS) --------------------------------------------------------
+STRENGTH_LAW, AFTER_SLIP = 0, 1
+LAW_COLUMNS = 2
+STRENGTH_CONSTANT, STRENGTH_BARTON_BANDIS = 0, 1
+AFTER_SLIP_KEEP, AFTER_SLIP_ZERO = 0, 1
+
+# --- law_params: float64 (n_types, PARAMETERS) ------------------------------------------------------
+P_KN, P_KS = 0, 1  # normal and shear stiffness [Pa/m]
+P_COH, P_PHI = 2, 3  # Mohr-Coulomb cohesion [Pa] and friction angle [rad]
+P_JRC, P_JCS, P_PHI_B, P_PHI_MAX, P_K_TANGENT = 4, 5, 6, 7, 8  # Barton-Bandis: [1], [Pa], [rad], [rad], [1]
+P_STRENGTH_DIVISOR = 9  # strength reduction's factor F [1]
+PARAMETERS = 10
+
+
+@dataclass(frozen=True)
+class MohrCoulomb:
+    """Constant stiffnesses kn, ks [Pa/m], friction angle [rad], cohesion [Pa], after_slip keep|zero."""
+
+    kn: float
+    ks: float
+    friction: float
+    cohesion: float = 0.0
+    after_slip: str = "keep"
+
+
+@dataclass(frozen=True)
+class BartonBandis:
+    """Constant stiffnesses kn, ks [Pa/m]; JRC [1], JCS [Pa], basic (or residual) friction angle phi_b
+    and the cap phi_max [rad]; the tangent's k: None for the exact pi JRC / (180 ln 10), or the paper's
+    0.016; after_slip keep|zero."""
+
+    kn: float
+    ks: float
+    jrc: float
+    jcs: float
+    phi_b: float
+    phi_max: float = math.radians(70.0)
+    tangent_coefficient: float | None = None
+    after_slip: str = "keep"
+
+
+JointLaw = MohrCoulomb | BartonBandis
+
+
+def _row(law: JointLaw, name: str) -> tuple[list[int], np.ndarray]:
+    if law.after_slip not in ("keep", "zero"):
+        raise ValueError(f"{name}: after_slip must be keep or zero, got {law.after_slip!r}")
+    if not (law.kn > 0.0 and law.ks > 0.0):
+        raise ValueError(f"{name}: kn and ks must be > 0 Pa/m, got {law.kn}, {law.ks}")
+    p = np.zeros(PARAMETERS)
+    p[P_KN], p[P_KS], p[P_STRENGTH_DIVISOR] = law.kn, law.ks, 1.0
+    after = AFTER_SLIP_ZERO if law.after_slip == "zero" else AFTER_SLIP_KEEP
+    if isinstance(law, MohrCoulomb):
+        p[P_COH], p[P_PHI] = law.cohesion, law.friction
+        return [STRENGTH_CONSTANT, after], p
+    p[P_JRC], p[P_JCS], p[P_PHI_B], p[P_PHI_MAX] = law.jrc, law.jcs, law.phi_b, law.phi_max
+    k = law.tangent_coefficient
+    p[P_K_TANGENT] = exact_tangent_coefficient(law.jrc) if k is None else k
+    return [STRENGTH_BARTON_BANDIS, after], p
+
+
+def joint_tables(laws: Sequence[JointLaw]) -> tuple[np.ndarray, np.ndarray]:
+    """The joint types' tables (law_codes int64 (n, LAW_COLUMNS), law_params float64 (n, PARAMETERS))
+    from the laws in order; a bad law is refused in one line naming it (joint type i)."""
+    rows = [_row(law, f"joint type {i}") for i, law in enumerate(laws)]
+    return np.array([r[0] for r in rows], dtype=np.int64), np.array([r[1] for r in rows])
+
+
+@numba.njit(cache=True)
+def strength(law_codes, law_params, j, sigma_n, slipped):
+    """Mohr-Coulomb parameters (c [Pa], tan phi [1]) of a sub-contact of joint type j at normal stress
+    sigma_n [Pa] (compression positive), `slipped` whether it has slipped before (``after_slip = zero``
+    then takes c = 0), both already divided by the strength reduction's F."""
+    p = law_params[j]
+    if law_codes[j, STRENGTH_LAW] == STRENGTH_BARTON_BANDIS:
+        args = (sigma_n, p[P_JRC], p[P_JCS], p[P_PHI_B], p[P_PHI_MAX], p[P_K_TANGENT])
+        cohesion, tan_phi = equivalent_cohesion(*args), math.tan(equivalent_friction_angle(*args))
+    else:
+        cohesion, tan_phi = p[P_COH], math.tan(p[P_PHI])
+    if slipped and law_codes[j, AFTER_SLIP] == AFTER_SLIP_ZERO:
+        cohesion = 0.0
+    divisor = p[P_STRENGTH_DIVISOR]
+    return cohesion / divisor, tan_phi / divisor

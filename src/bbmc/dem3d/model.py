@@ -1,0 +1,144 @@
+"""A 3D model: rigid convex polyhedra and a density made into the engine's flat arrays, and the
+vertices and face normals placed in the world from each block's position and orientation.
+
+Layouts: the block array and dof flags of `bbmc.dem3d.layout`; the faces as `bbmc.dem3d.contact_geometry`
+describes (vertex_start, face_vertices, face_start, block_face_start, face_normal). Vertices and normals
+are kept in each block's body frame (origin at its centroid, axes its principal axes: `body_vertices`,
+`body_normals`) and placed in the world every step, x + R(q) b and R(q) n (`place`), so a block stays
+rigid however far it turns. The contact state (`bbmc.dem3d.solver`) lives in the model too, so that a
+run can be continued. Units: m, kg, s.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from bbmc.dem3d.contact_forces import CONTACT_COLUMNS, CONTACT_VALUES, SUB_COLUMNS
+from bbmc.dem3d.joint_laws import JointLaw, joint_tables
+from bbmc.dem3d.layout import DOFS, PRESCRIBED, QW, X
+from bbmc.dem3d.motion import new_blocks
+from bbmc.dem3d.quaternion import rotate
+from bbmc.geometry.polyhedra import Polyhedron
+from bbmc.geometry.polyhedron_mass import mass_properties
+
+SEARCH_MARGIN = 0.05  # x the smallest block's size: the broad phase's margin [m]
+
+
+@dataclass(eq=False)
+class Model:
+    """Blocks, their faces, joint types and contact state (arrays as the module docstring says).
+
+    `size` (n,): each block's size, twice its RADIUS [m], the scale of contact tolerances; `joint_laws`
+    the law codes and parameters (`bbmc.dem3d.joint_laws`), every contact of joint type 0 so far;
+    `refine`: the face triangulation's refinement; `margin` [m]: the broad phase's. The contact state:
+    `contacts` (int64, CONTACT_COLUMNS), `contact_values` (float64, CONTACT_VALUES), `subs` (float64,
+    SUB_COLUMNS) as `bbmc.dem3d.contact_forces` lays them out; `vertices_at_search`; `step`."""
+
+    blocks: np.ndarray
+    dof: np.ndarray
+    body_vertices: np.ndarray
+    vertex_start: np.ndarray
+    face_vertices: np.ndarray
+    face_start: np.ndarray
+    block_face_start: np.ndarray
+    body_normals: np.ndarray
+    vertices: np.ndarray
+    face_normal: np.ndarray
+    size: np.ndarray
+    law_codes: np.ndarray
+    law_params: np.ndarray
+    gravity: np.ndarray
+    refine: int
+    margin: float
+    contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_COLUMNS), dtype=np.int64))
+    contact_values: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_VALUES)))
+    subs: np.ndarray = field(default_factory=lambda: np.zeros((0, SUB_COLUMNS)))
+    vertices_at_search: np.ndarray | None = None
+    step: int = 0
+
+
+def build_model(
+    polyhedra: Sequence[Polyhedron],
+    density: float | Sequence[float],
+    laws: Sequence[JointLaw],
+    *,
+    held: Sequence[int] = (),
+    gravity: Sequence[float] = (0.0, 0.0, -9.81),
+    refine: int = 1,
+) -> Model:
+    """The model of these blocks, of `density` [kg/m³] (one for all or one each), on the joint types
+    `laws` (every contact takes the first so far), blocks `held` fixed in all six degrees of freedom,
+    `gravity` [m/s²], the face triangulation refined `refine` times (each triangle split in four)."""
+    n = len(polyhedra)
+    densities = np.broadcast_to(np.asarray(density, dtype=float), (n,))
+    if refine < 0:
+        raise ValueError(f"refine: must be >= 0, got {refine}")
+    for i in held:
+        if not 0 <= i < n:
+            raise ValueError(f"held: block {i} is not one of the {n} blocks")
+    for i in range(n):
+        if not densities[i] > 0.0:
+            raise ValueError(f"block {i}: density must be > 0 kg/m3, got {densities[i]}")
+    props = [mass_properties(p, d) for p, d in zip(polyhedra, densities, strict=True)]
+    centroids = np.array([m.centroid for m in props])
+    axes = np.array([m.principal_axes for m in props])
+    body = [(p.vertices - m.centroid) @ m.principal_axes for p, m in zip(polyhedra, props, strict=True)]
+    radii = np.array([np.sqrt((b * b).sum(axis=1)).max() for b in body])
+    blocks = new_blocks(
+        centroids,
+        axes,
+        np.array([m.mass for m in props]),
+        np.array([m.principal_moments for m in props]),
+        radii,
+    )
+    dof = np.zeros((n, DOFS), dtype=np.int64)
+    dof[list(held)] = PRESCRIBED
+    vertex_start = np.cumsum([0] + [len(p.vertices) for p in polyhedra])
+    face_counts = [p.face_count for p in polyhedra]
+    block_face_start = np.cumsum([0, *face_counts])
+    face_vertices = np.concatenate([p.face_vertices + vertex_start[k] for k, p in enumerate(polyhedra)])
+    loop_lengths = np.concatenate([np.diff(p.face_start) for p in polyhedra])
+    face_start = np.concatenate([[0], np.cumsum(loop_lengths)])
+    body_normals = np.vstack([p.normals @ m.principal_axes for p, m in zip(polyhedra, props, strict=True)])
+    law_codes, law_params = joint_tables(laws)
+    size = 2.0 * radii
+    model = Model(
+        blocks=blocks,
+        dof=dof,
+        body_vertices=np.vstack(body),
+        vertex_start=vertex_start.astype(np.int64),
+        face_vertices=face_vertices.astype(np.int64),
+        face_start=face_start.astype(np.int64),
+        block_face_start=block_face_start.astype(np.int64),
+        body_normals=body_normals,
+        vertices=np.empty((vertex_start[-1], 3)),
+        face_normal=np.empty((block_face_start[-1], 3)),
+        size=size,
+        law_codes=law_codes,
+        law_params=law_params,
+        gravity=np.asarray(gravity, dtype=float),
+        refine=int(refine),
+        margin=SEARCH_MARGIN * float(size.min()),
+    )
+    place(model.blocks, model.body_vertices, model.vertex_start, model.body_normals, model.block_face_start,
+          model.vertices, model.face_normal)  # fmt: skip
+    return model
+
+
+@numba.njit(cache=True)
+def place(blocks, body_vertices, vertex_start, body_normals, block_face_start, vertices, face_normal):
+    """Every block's vertices x + R(q) b and face normals R(q) n in the world, in place."""
+    for i in range(blocks.shape[0]):
+        q0, q1, q2, q3 = blocks[i, QW], blocks[i, QW + 1], blocks[i, QW + 2], blocks[i, QW + 3]
+        for v in range(vertex_start[i], vertex_start[i + 1]):
+            r = rotate(q0, q1, q2, q3, body_vertices[v, 0], body_vertices[v, 1], body_vertices[v, 2])
+            for d in range(3):
+                vertices[v, d] = blocks[i, X + d] + r[d]
+        for f in range(block_face_start[i], block_face_start[i + 1]):
+            r = rotate(q0, q1, q2, q3, body_normals[f, 0], body_normals[f, 1], body_normals[f, 2])
+            for d in range(3):
+                face_normal[f, d] = r[d]
