@@ -33,7 +33,7 @@ from bbmc.dem3d.contact_forces import (
 )
 from bbmc.dem3d.contact_geometry import contact_patch, face_overlap, separating_axis
 from bbmc.dem3d.joint_laws import P_KN, P_KS
-from bbmc.dem3d.layout import FX, PRESCRIBED, TX, X
+from bbmc.dem3d.layout import FX, PRESCRIBED, TX, VPX, WPX, X
 from bbmc.dem3d.model import Model, place
 from bbmc.dem3d.motion import move_blocks
 from bbmc.dem3d.polygon_clip import polygon_moments
@@ -46,7 +46,11 @@ def _geometry(model: Model) -> tuple:
 
 
 def _held(model: Model) -> np.ndarray:
-    return np.all(model.dof == PRESCRIBED, axis=1)
+    """Blocks that cannot move: all six dofs prescribed, at zero velocity."""
+    still = np.all(model.blocks[:, VPX : VPX + 3] == 0.0, axis=1) & np.all(
+        model.blocks[:, WPX : WPX + 3] == 0.0, axis=1
+    )
+    return np.all(model.dof == PRESCRIBED, axis=1) & still
 
 
 def _slots(model: Model, block: int) -> int:
