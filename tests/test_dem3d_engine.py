@@ -219,3 +219,20 @@ def test_barton_bandis_strength_is_the_tangent_of_the_peak_envelope():
         c, tan_phi = strength(codes, params, 0, sigma, False)
         tau_p = laws.peak_shear_strength(sigma, 8.0, 50e6, math.radians(30.0), math.radians(70.0))
         assert c + sigma * tan_phi == pytest.approx(float(tau_p), rel=1e-12)
+
+
+def test_very_slender_block_on_a_weak_plane_slides_and_topples():
+    """b/h 0.25 (b 10, h 40) with phi 20 deg: now tan(phi) = 0.364 > b/h, so sliding does not keep it
+    from toppling; and toppling alone about the downhill edge would need, from rest, a friction of
+    0.383 N at the edge (rigid blocks: alpha = M_edge / I_edge), more than the plane holds, so it slides
+    and topples at once (Sagaseta 1986's region; it is narrow here, 14 deg < phi < 21 deg). In 1.2 s it
+    turns more than 3 deg about the strike (measured 6.3) and its downhill edge slips more than 0.1 m
+    down the plane (measured 0.29 m; a rigid pivot's closed form starts the edge at 0.70 m/s2, 0.48 m
+    by then, but on a spring bed the block first pivots about a centre of pressure inside the base,
+    which asks less friction, so it slips less)."""
+    model, frame, edge = block_on_incline(10.0, 40.0, 20.0)
+    track = Track(model, time_step(model))
+    track.run(1.2, 12)
+    turn = track.turn()[-1]
+    assert turn @ frame[:, 1] > math.radians(3.0)
+    assert (track.point(edge)[-1] - edge) @ frame[:, 0] > 0.1
