@@ -77,7 +77,8 @@ def test_half_plane_clipping_keeps_the_side_asked_for():
 
 def test_a_model_refuses_bad_input_in_one_line():
     """A non-positive density names its block, a held index out of range names it, a bad law names
-    its joint type, a negative refinement is refused."""
+    its joint type, a negative refinement is refused, and so are two blocks that overlap at the start
+    (here by 0.2 m; a block sunk by its settled closure, a few mm, is let through)."""
     blocks = [box([0, 0, 0], [1, 1, 1]), box([0, 0, 1], [1, 1, 2])]
     law = MohrCoulomb(KN, KS, PHI)
     with pytest.raises(ValueError, match=r"^block 1: density"):
@@ -88,3 +89,6 @@ def test_a_model_refuses_bad_input_in_one_line():
         build_model(blocks, 2500.0, [MohrCoulomb(KN, KS, PHI, after_slip="drop")])
     with pytest.raises(ValueError, match=r"^refine"):
         build_model(blocks, 2500.0, [law], refine=-1)
+    overlapping = [blocks[0], box([0.5, 0.5, 0.8], [1.5, 1.5, 1.8])]
+    with pytest.raises(ValueError, match=r"^blocks 0 and 1: they overlap by 0.2 m at the start$"):
+        build_model(overlapping, 2500.0, [law])

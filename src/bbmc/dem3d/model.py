@@ -17,7 +17,9 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
+from bbmc.dem3d.broad_phase import candidate_pairs
 from bbmc.dem3d.contact_forces import CONTACT_COLUMNS, CONTACT_VALUES, SUB_COLUMNS
+from bbmc.dem3d.contact_geometry import separating_axis
 from bbmc.dem3d.joint_laws import JointLaw, joint_tables
 from bbmc.dem3d.layout import DOFS, PRESCRIBED, QW, X
 from bbmc.dem3d.motion import new_blocks
@@ -26,6 +28,7 @@ from bbmc.geometry.polyhedra import Polyhedron
 from bbmc.geometry.polyhedron_mass import mass_properties
 
 SEARCH_MARGIN = 0.05  # x the smallest block's size: the broad phase's margin [m]
+START_OVERLAP = 0.01  # x the smaller block's size: the deepest overlap a start may have (a settled closure)
 
 
 @dataclass(eq=False)
@@ -72,7 +75,9 @@ def build_model(
 ) -> Model:
     """The model of these blocks, of `density` [kg/m³] (one for all or one each), on the joint types
     `laws` (every contact takes the first so far), blocks `held` fixed in all six degrees of freedom,
-    `gravity` [m/s²], the face triangulation refined `refine` times (each triangle split in four)."""
+    `gravity` [m/s²], the face triangulation refined `refine` times (each triangle split in four).
+    Refused in one line naming the block: a density <= 0, a held index out of range, a bad law, two
+    free blocks (or a free and a held one) overlapping at the start (`_refuse_overlaps`)."""
     n = len(polyhedra)
     densities = np.broadcast_to(np.asarray(density, dtype=float), (n,))
     if refine < 0:
@@ -126,7 +131,20 @@ def build_model(
     )
     place(model.blocks, model.body_vertices, model.vertex_start, model.body_normals, model.block_face_start,
           model.vertices, model.face_normal)  # fmt: skip
+    _refuse_overlaps(model, np.array([i in held for i in range(n)]))
     return model
+
+
+def _refuse_overlaps(model: Model, held: np.ndarray) -> None:
+    """ValueError naming the first two blocks that overlap at the start by more than START_OVERLAP x
+    the smaller one's size (the separating-axis depth; a block sunk by its settled closure passes)."""
+    arrays = (model.vertices, model.vertex_start, model.face_vertices, model.face_start,
+              model.block_face_start, model.face_normal)  # fmt: skip
+    for a, b in candidate_pairs(model.vertices, model.vertex_start, held, 0.0):
+        scale = min(model.size[a], model.size[b])
+        depth = -separating_axis(*arrays, a, b, scale, 0.0, -1, -1, -1)[0]
+        if depth > START_OVERLAP * scale:
+            raise ValueError(f"blocks {a} and {b}: they overlap by {depth:.4g} m at the start")
 
 
 @numba.njit(cache=True)
