@@ -1,0 +1,94 @@
+"""Issue 36's wedges: the 3D engine's strength-reduction factor of safety (`bbmc.fos.
+strength_reduction3d`) against the limit equilibrium's (`bbmc.slope.wedge.analysis`), dry, on a wedge
+10 m high (H1) of density 2500 kg/m3 resting on the held rock of its two planes
+(`bbmc.slope.wedge.engine_scene`). The search bisects to a bracket 0.001 wide (0.08 % of these FS), so
+the 1 % tolerance is the issue's, not the search's. Every FS measured is in the test's docstring."""
+
+import math
+
+import pytest
+
+from bbmc.dem3d.joint_laws import MohrCoulomb
+from bbmc.fos.strength_reduction3d import factor_of_safety_3d
+from bbmc.scene.fos_settings import StrengthReduction
+from bbmc.slope.wedge.analysis import WedgeOrientations, analyse_wedges
+from bbmc.slope.wedge.engine_scene import wedge_scene
+from bbmc.slope.wedge.geometry import wedge_geometries
+from bbmc.slope.wedge.mechanics import MohrCoulomb as LimitMohrCoulomb
+from bbmc.slope.wedge.mechanics import SlidingMode
+
+RHO, G, H1 = 2500.0, 9.81, 10.0
+KN = 1e9  # Pa/m: the wedge's closure under its weight is ~0.1 mm, the drawn geometry stays
+SEARCH = StrengthReduction(tolerance=1e-3)
+
+
+def orientations(planes, face=(70.0, 175.0)):
+    """Planes 1 and 2, the face (dip, dip direction) [deg]; the upper surface horizontal."""
+    (d1, a1), (d2, a2) = planes
+    angles = (d1, a1, d2, a2, *face, 0.0, face[1])
+    return WedgeOrientations(*(math.radians(a) for a in angles))
+
+
+def limit_equilibrium(wedge, cohesion, phi_deg):
+    strength = LimitMohrCoulomb(cohesion, math.radians(phi_deg))
+    result = analyse_wedges(wedge, strength, strength, unit_weight=RHO * G, height_h1=H1)
+    return float(result.factor_of_safety), SlidingMode(int(result.solution.mode))
+
+
+def engine_fs(wedge, cohesion, phi_deg, refine=1):
+    geometry = wedge_geometries(*wedge.angles(), height_h1=H1)
+    law = MohrCoulomb(KN, KN / 2, math.radians(phi_deg), cohesion)
+    result = factor_of_safety_3d(wedge_scene(geometry, RHO, law, refine=refine), SEARCH)
+    assert result.bracketed
+    return result.factor_of_safety
+
+
+THREE_DEC = orientations(((40.0, 130.0), (60.0, 220.0)))
+LIFTING = orientations(((40.0, 170.0), (80.0, 250.0)))  # plane 1's dip points away from plane 2
+
+
+def test_three_dec_wedge_slides_on_both_planes_at_the_limit_equilibrium_fs():
+    """3DEC's sliding wedge (planes 40/130 and 60/220, c = 0, phi 40 deg; face 70/175, horizontal upper
+    surface, so it daylights): limit equilibrium 1.2746, as 3DEC's; the engine within 1 % (measured
+    1.2749, +0.02 %, in about 1 s after compiling)."""
+    fs, mode = limit_equilibrium(THREE_DEC, 0.0, 40.0)
+    assert mode == SlidingMode.BOTH
+    assert fs == pytest.approx(1.2746, abs=1e-4)
+    assert engine_fs(THREE_DEC, 0.0, 40.0) == pytest.approx(fs, rel=0.01)
+
+
+@pytest.mark.xfail(strict=True, reason="measured 1.2100 against 1.2780 (-5.3 %), not yet explained")
+def test_wedge_sliding_on_one_plane_with_the_other_lifted_off():
+    """Planes 40/170 and 80/250, phi 47 deg: the wedge leaves plane 2 and slides down plane 1's dip,
+    FS = tan(phi) / tan(40 deg) = 1.278 by limit equilibrium; the engine within 1 %. Measured 1.2100
+    (-5.3 %): at equilibrium plane 2 still carries 1.4 % of the normal force on 6 % of its area (the
+    wedge leans on it: LE ignores moments), and the trials above 1.2 fail by the trend's projection
+    ("projected"), not by moving the failure displacement; which of the two is the cause is open."""
+    fs, mode = limit_equilibrium(LIFTING, 0.0, 47.0)
+    assert mode == SlidingMode.PLANE_1
+    assert fs == pytest.approx(math.tan(math.radians(47.0)) / math.tan(math.radians(40.0)), rel=1e-9)
+    assert engine_fs(LIFTING, 0.0, 47.0) == pytest.approx(fs, rel=0.01)
+
+
+def test_wedge_with_cohesion():
+    """3DEC's wedge with c = 10 kPa, phi 30 deg on both planes: limit equilibrium 1.3156 (the cohesion
+    counted as LE counts it, c A / F, ``after_slip keep``); the engine within 1 %
+    (measured 1.3120, -0.27 %)."""
+    fs, mode = limit_equilibrium(THREE_DEC, 10e3, 30.0)
+    assert mode == SlidingMode.BOTH
+    assert engine_fs(THREE_DEC, 10e3, 30.0) == pytest.approx(fs, rel=0.01)
+
+
+@pytest.mark.xfail(strict=True, reason="measured spread 0.54 % (refine 0: -0.13 %, 2: +0.41 %), see doc")
+def test_wedge_fs_does_not_depend_on_the_refinement():
+    """3DEC's wedge at refinement 0, 1, 2 (1, 4 and 16 sub-contacts on each wedge face): each within 1 %
+    of limit equilibrium, spread <= 0.5 % (the issue's). Measured 1.2729, 1.2749, 1.2798: spread
+    0.54 %, so it fails the issue's 0.5 %. The stiffer the shear springs relative to the normal ones,
+    the higher the FS at fine refinement: with K_s = K_n / 10, 1.2622, 1.2720, 1.2749 (spread 1.0 %).
+    Likely cause, not yet shown: elastic shear locked in across the line of intersection when the
+    wedge settles (it sinks vertically, across both planes), which LE does not have."""
+    found = [engine_fs(THREE_DEC, 0.0, 40.0, refine) for refine in (0, 1, 2)]
+    fs, _ = limit_equilibrium(THREE_DEC, 0.0, 40.0)
+    for value in found:
+        assert value == pytest.approx(fs, rel=0.01)
+    assert max(found) - min(found) <= 5e-3 * fs
