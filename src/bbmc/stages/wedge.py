@@ -355,7 +355,7 @@ def summary_lines(result: StageResult) -> list[str]:
         lines.append(
             f"design of {d.plane_1} with {d.plane_2} ({d.bolt}, {d.form}): "
             f"{d.total_force_kN:,.1f} kN drilled along {where}: "
-            f"{d['count']:.0f} bolts of {d.capacity_kN:g} kN give FS {d.factor_of_safety:.3f}"
+            f"{d['count']:.0f} bolts of {d.capacity_kN:,.4g} kN give FS {d.factor_of_safety:.3f}"
         )
     if "combinations" in result.tables:
         table = result.tables["combinations"]
