@@ -203,7 +203,7 @@ def wedge_figure(
     ax.set_ylabel("north [m]")
     ax.zaxis.set_rotate_label(False)  # else the label turns with the view, upside down on the left
     ax.set_zlabel("up [m]", rotation=90)
-    fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.63, 0.5), fontsize=8, frameon=False)
+    fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.66, 0.5), fontsize=8, frameon=False)
     solution = analysis.solution
     mode = MODE_DESCRIPTIONS[SlidingMode(int(np.asarray(solution.mode)[index]))]
     fs = float(np.asarray(solution.factor_of_safety)[index])
