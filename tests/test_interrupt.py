@@ -179,6 +179,7 @@ def test_a_local_sweep_ends_its_workers_and_keeps_its_finished_batch(tmp_path):
     _assert_study_kept_its_first_batch(stopped, tmp_path / "out")
 
 
+@pytest.mark.slow  # 8-11 s: a local dask cluster; make test-slow runs it
 def test_a_cluster_sweep_cancels_its_tasks_and_leaves_the_cluster_free(tmp_path):
     """A LocalCluster in this process (one worker, two threads, both on an hours-long batch when
     Ctrl-C comes): the client exits at once, its tasks leave the scheduler, and the worker's threads are

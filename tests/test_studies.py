@@ -208,6 +208,7 @@ def _cluster_study(tmp_path: Path) -> tuple[list[Path], list[str], pd.DataFrame]
     return kernel_cache.written_since(before[0], folder), kills.lines, result.samples
 
 
+@pytest.mark.slow  # 8-11 s: a local dask cluster; make test-slow runs it
 def test_a_cluster_studys_workers_load_the_engine_and_shut_down_cleanly(tmp_path):
     """Not timed: the workers compile nothing (every kernel file in the cache is as it was when the
     batches started), the samples are those of one local process, each worker is set to exit quickly,

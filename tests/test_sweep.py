@@ -154,6 +154,7 @@ def _scene_study(tmp_path: Path, samples: int) -> Path:
     )
 
 
+@pytest.mark.slow  # 8-11 s: a local dask cluster; make test-slow runs it
 def test_a_dask_cluster_gives_the_same_answer_and_survives_a_killed_worker(tmp_path):
     """The DEM study on a 2-worker LocalCluster, one worker process killed (SIGKILL) after the first
     batch has come back: the study completes, every sample once, byte for byte what 1 local process

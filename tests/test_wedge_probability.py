@@ -117,6 +117,7 @@ def _study_config(**base) -> dict:
             "face": {"dip_deg": 65, "dip_direction_deg": 185},
             "upper_surface": {"dip_deg": 12, "dip_direction_deg": 195},
             "height_h1_m": 30.48,
+            "unit_weight_kN_m3": 26.0,
             **base,
         },
         "variables": [

@@ -384,3 +384,13 @@ def test_the_papers_equivalent_mohr_coulomb_at_the_planes_own_stress_is_barton_b
         fs[scale] = pd.read_csv(folder / "wedge.csv").factor_of_safety[0]
     assert fs[1.0] == pytest.approx(w.factor_of_safety, rel=1e-9)
     assert fs[0.1] > w.factor_of_safety
+
+
+def test_an_upper_surface_dipping_away_from_the_face_is_a_ridge_not_refused(tmp_path):
+    """The face steeper than the upper surface is judged on the upper surface's apparent dip in the
+    face's dip direction: an upper surface 45/005 behind a face 40/185 dips away (a ridge) and is taken
+    (the wedge forms or gives its own reason); 12/195 behind a face 10/185 is refused naming the key."""
+    outcome, _ = _run(tmp_path / "ridge", set_key("upper_surface", {"dip_deg": 45, "dip_direction_deg": 5}))
+    assert "not steeper than the upper surface" not in outcome.output
+    outcome, _ = _run(tmp_path / "flat", set_key("face", {"dip_deg": 10, "dip_direction_deg": 185}))
+    refused(outcome, tmp_path / "flat" / "results", "wedge.yaml", "face.dip_deg", "not steeper")

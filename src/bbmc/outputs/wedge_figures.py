@@ -101,7 +101,7 @@ def wedge_forces(
     drawn += [
         (
             f"B{k + 1}",
-            f"bolt {k + 1} ({b.form}, {float(b.count):g} × {float(b.force) / KN:g} kN)",
+            f"bolt {k + 1} ({b.form}, {float(b.count):g} × {float(b.force) / KN:,.4g} kN)",
             np.asarray(b.vector, float),
             "magenta",
         )
@@ -168,7 +168,7 @@ def wedge_figure(
     face_names = FACE_NAMES | dict(enumerate(names, start=1))
     size = float(np.ptp(points, axis=0).max())
     fig = Figure(figsize=(11.0, 7.5), dpi=dpi)
-    ax = fig.add_axes((0.04, 0.06, 0.58, 0.86), projection="3d")
+    ax = fig.add_axes((0.08, 0.06, 0.56, 0.86), projection="3d")  # room for a z label on the left
     ax.computed_zorder = False  # drawn in zorder: the slope, the wedge (its faces sorted by depth), forces
     face_patch, upper_patch = _slope_patches(g, SURROUND * size)
     surround = Poly3DCollection(
@@ -203,7 +203,7 @@ def wedge_figure(
     ax.set_ylabel("north [m]")
     ax.zaxis.set_rotate_label(False)  # else the label turns with the view, upside down on the left
     ax.set_zlabel("up [m]", rotation=90)
-    fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.63, 0.5), fontsize=8, frameon=False)
+    fig.legend(handles=handles, loc="center left", bbox_to_anchor=(0.66, 0.5), fontsize=8, frameon=False)
     solution = analysis.solution
     mode = MODE_DESCRIPTIONS[SlidingMode(int(np.asarray(solution.mode)[index]))]
     fs = float(np.asarray(solution.factor_of_safety)[index])

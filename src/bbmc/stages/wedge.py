@@ -37,6 +37,7 @@ from bbmc.slope.wedge.bolting import BRACKET_WEIGHTS, BoltDesign, design_bolts, 
 from bbmc.slope.wedge.cases import Plane, WedgeCase, WedgeSetting, analyse_case
 from bbmc.slope.wedge.combinations import Combination, combination_table
 from bbmc.slope.wedge.geometry import WedgeReason
+from bbmc.slope.wedge.strength import normal_stresses
 from bbmc.slope.wedge.support import Bolt, support_resultants
 
 NAME = "wedge"
@@ -232,7 +233,7 @@ def friction_angles(drawn: Drawn) -> dict[str, float]:
     """Each plane's friction angle [rad] for the net's friction cones: Mohr-Coulomb's, or a
     Barton-Bandis plane's tangent angle at its mean normal stress; one cone where both are equal."""
     solution, g = drawn.case.analysis.solution, drawn.case.geometry
-    stresses = (float(solution.normal_1 / g.area_1), float(solution.normal_2 / g.area_2))
+    stresses = [float(v) for v in normal_stresses(solution.normal_1, solution.normal_2, g.area_1, g.area_2)]
     angles = [
         math.atan(tangent_friction(s, sigma)) for s, sigma in zip(drawn.case.strengths, stresses, strict=True)
     ]
@@ -355,7 +356,7 @@ def summary_lines(result: StageResult) -> list[str]:
         lines.append(
             f"design of {d.plane_1} with {d.plane_2} ({d.bolt}, {d.form}): "
             f"{d.total_force_kN:,.1f} kN drilled along {where}: "
-            f"{d['count']:.0f} bolts of {d.capacity_kN:g} kN give FS {d.factor_of_safety:.3f}"
+            f"{d['count']:.0f} bolts of {d.capacity_kN:,.4g} kN give FS {d.factor_of_safety:.3f}"
         )
     if "combinations" in result.tables:
         table = result.tables["combinations"]

@@ -187,7 +187,7 @@ class Wedge(Section):
     height_h1_m: Positive | None = None
     height_m: Positive | None = None
     tension_crack: wedge_keys.Crack | None = None
-    unit_weight_kN_m3: Positive = 26.0
+    unit_weight_kN_m3: Positive  # required, as `bbmc wedge` requires it
     water: wedge_keys.Water = Field(default_factory=lambda: wedge_keys.NoWater(model="dry"))
     seismic: wedge_keys.SeismicSection | None = None
     forces: list[wedge_keys.ForceSection] = Field(default_factory=list)

@@ -182,6 +182,17 @@ def analyse_wedges(
     else:
         geometry = wedge_geometries(*orientations.angles(), crack=crack, **heights)
     loads = wedge_loads(geometry, unit_weight, water, water_unit_weight, seismic, forces, passive)
+    return solved(geometry, loads, strength_1, strength_2)
+
+
+def solved(
+    geometry: WedgeGeometry | WedgeEssentials,
+    loads: WedgeLoads,
+    strength_1: PlaneStrength,
+    strength_2: PlaneStrength,
+) -> WedgeAnalysis:
+    """The limit equilibrium (`mechanics.wedge_factor_of_safety`) of wedges of `geometry` under `loads`,
+    with the planes' strengths."""
     solution = wedge_factor_of_safety(
         geometry.normal_1,
         geometry.normal_2,

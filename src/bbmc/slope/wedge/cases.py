@@ -1,7 +1,7 @@
 """One wedge case from its inputs in SI: the slope (face, upper surface, height, crack), the loads and the
 support held in a `WedgeSetting`, and two joint planes; geometry first (whether the wedge forms, the
 length a Barton-Bandis plane is scaled to, the face traces shotcrete shears through), then on that one
-geometry the loads (`analysis.wedge_loads`) and the limit equilibrium (`mechanics.wedge_factor_of_safety`),
+geometry the loads (`analysis.wedge_loads`) and the limit equilibrium (`analysis.solved`),
 the steps of `analysis.analyse_wedges`. And what drives a wedge: the driving force split by load.
 
     driving force   D = F . s,  F = W + U + E + A   (s the sliding direction, `mechanics`)
@@ -19,10 +19,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from bbmc.slope.wedge.analysis import Seismic, WedgeAnalysis, wedge_loads
+from bbmc.slope.wedge.analysis import Seismic, WedgeAnalysis, solved, wedge_loads
 from bbmc.slope.wedge.geometry import TensionCrack, WedgeGeometry, wedge_geometries
 from bbmc.slope.wedge.loads import WATER_UNIT_WEIGHT
-from bbmc.slope.wedge.mechanics import PlaneStrength, wedge_factor_of_safety
+from bbmc.slope.wedge.mechanics import PlaneStrength
 from bbmc.slope.wedge.size_limits import SizeLimits
 from bbmc.slope.wedge.support import shotcrete_force
 from bbmc.slope.wedge.water import DRY, WaterModel
@@ -137,16 +137,7 @@ def analyse_case(setting: WedgeSetting, plane_1: Plane, plane_2: Plane) -> Wedge
         setting.forces,
         passive,
     )
-    solution = wedge_factor_of_safety(
-        geometry.normal_1,
-        geometry.normal_2,
-        geometry.area_1,
-        geometry.area_2,
-        loads.active,
-        *strengths,
-        loads.passive,
-    )
-    analysis = WedgeAnalysis(geometry, loads, solution)
+    analysis = solved(geometry, loads, *strengths)
     return WedgeCase(geometry, analysis, strengths)
 
 

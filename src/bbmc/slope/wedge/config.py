@@ -11,6 +11,7 @@ bad config is refused before any work, in one line naming its key (`bbmc.config`
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 import numpy as np
@@ -298,14 +299,17 @@ def check_slope(
     crack: Crack | None,
 ) -> None:
     """The rules of a wedge's slope that no single key states, as `bbmc wedge` and a sweep's wedge base
-    both take them: exactly one of the two `heights` (by key), a face steeper than the upper surface,
-    and a water pressure on the tension crack only with a crack. ValueError naming the key."""
+        both take them: exactly one of the two `heights` (by key), a face steeper than the upper surface's
+    apparent dip in the face's dip direction (a ridge's far side dips away: any face is steeper),
+        and a water pressure on the tension crack only with a crack. ValueError naming the key."""
     if sum(h is not None for h in heights.values()) != 1:
         raise ValueError(f"key '{', '.join(heights)}': give exactly one")
-    if face.dip_deg <= upper_surface.dip_deg:
+    turn = math.radians(upper_surface.dip_direction_deg - face.dip_direction_deg)
+    apparent = math.degrees(math.atan(math.tan(math.radians(upper_surface.dip_deg)) * math.cos(turn)))
+    if not face.overhanging and face.dip_deg <= apparent:
         raise ValueError(
-            f"key 'face.dip_deg': the face ({face.dip_deg:g} deg) is not steeper than the upper "
-            f"surface ({upper_surface.dip_deg:g} deg)"
+            f"key 'face.dip_deg': the face ({face.dip_deg:g} deg) is not steeper than the upper surface "
+            f"({apparent:.3g} deg in the face's dip direction)"
         )
     if isinstance(water, Pressures) and water.crack_kPa and crack is None:
         raise ValueError("key 'water.crack_kPa': a pressure on the tension crack needs tension_crack")

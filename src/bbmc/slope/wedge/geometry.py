@@ -53,7 +53,16 @@ from numpy.typing import ArrayLike, NDArray
 from bbmc.geometry.orientation import downward, pole_components, trend_and_plunge
 from bbmc.slope.wedge.short_solution import ShortSolutionAngles, short_solution_angles
 from bbmc.slope.wedge.size_limits import LIMIT_NAMES, SizeLimit, SizeLimits, size_scale
-from bbmc.slope.wedge.vectors import cross, dot, norm, spread, stacked, triangle_area, unit
+from bbmc.slope.wedge.vectors import (
+    cross,
+    dot,
+    norm,
+    spread,
+    stacked,
+    tetrahedron_volume,
+    triangle_area,
+    unit,
+)
 
 Array = NDArray[np.float64]
 TOLERANCE = 1e-9  # sines and cosines of unit vectors closer to 0 than this count as 0 (parallel lines)
@@ -300,7 +309,7 @@ def _limited(
     _refuse(np.array(crack is not None), "limits", "size limits scale the wedge; not with a tension crack")
     crest_1, crest_2, top = (offset[..., None] * point for point in points)
     vertices = np.stack(np.broadcast_arrays(np.zeros_like(top), crest_1, crest_2, top), axis=-2)
-    volume = np.abs(dot(crest_1, cross(crest_2, top))) / 6.0
+    volume = tetrahedron_volume(np.zeros_like(top), crest_1, crest_2, top)
     return size_scale(limits, vertices, volume, *planes)
 
 
@@ -335,7 +344,7 @@ def _measures(crest_1: Array, crest_2: Array, top: Array) -> dict[str, Array]:
         "area_2": triangle_area(origin, crest_2, top),
         "area_face": triangle_area(origin, crest_1, crest_2),
         "area_upper": triangle_area(top, crest_1, crest_2),
-        "volume": np.abs(dot(crest_1, cross(crest_2, top))) / 6.0,
+        "volume": tetrahedron_volume(origin, crest_1, crest_2, top),
         "centroid": (crest_1 + crest_2 + top) / 4.0,
         "trace_face_1": norm(crest_1),
         "trace_face_2": norm(crest_2),
@@ -356,7 +365,7 @@ def _truncated(
     crest_2: Array,
 ) -> dict[str, Array]:
     """The measures of the tetrahedron less T P Q R, the piece the crack cuts off."""
-    cut = abs(dot(on_1 - top, cross(on_2 - top, foot - top))) / 6.0
+    cut = tetrahedron_volume(top, on_1, on_2, foot)
     volume = measures["volume"] - cut
     with np.errstate(invalid="ignore", divide="ignore"):
         centroid = (

@@ -13,8 +13,9 @@ magnitude (an external load, a bolt or an anchor).
 * Pseudo-static seismic force (Hoek & Bray 1981, ch. 8; Swedge's "Seismic Force"): k W along a unit
   direction: the line of intersection (down it), the horizontal along its trend, or a given one.
 * A force of magnitude T [N] along the line of trend t and plunge p (downward positive):
-  T (cos p sin t, cos p cos t, -sin p). A bolt drilled into the slope and pulling the wedge in pulls
-  opposite to its drilling direction: give the trend and plunge of the pull, not of the hole.
+  T (cos p sin t, cos p cos t, -sin p). A bolt (`support.Bolt`) is given by the trend and plunge of
+  its hole, drilled from the face into the rock: it pulls the wedge along that direction, towards its
+  anchor.
 
 SI: forces N, lengths m, unit weights N/m^3, angles rad; arrays broadcast over samples.
 """

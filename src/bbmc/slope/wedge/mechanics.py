@@ -181,17 +181,6 @@ def _statics(active: NDArray, normal_1: NDArray, normal_2: NDArray) -> _Statics:
     return _Statics(mode, f1, f2, r, along, n1, n2, line)
 
 
-def sliding_modes(
-    active: NDArray, normal_1: NDArray, normal_2: NDArray
-) -> tuple[NDArray[np.int8], NDArray, NDArray, NDArray]:
-    """The mode of each sample under the active resultant `active` (..., 3) [N] (module docstring), and
-    the normal forces N1, N2 [N] with contact on both planes and the line of intersection l (downward)
-    they were found with. Parallel planes (no line of intersection) give NaN normal forces and lines and
-    the mode LIFTED; `wedge_factor_of_safety` gives them FS NaN."""
-    statics = _statics(np.asarray(active, dtype=float), normal_1, normal_2)
-    return statics.mode, statics.normal_1, statics.normal_2, statics.line
-
-
 def _passive_parts(
     held: NDArray, n1_vec: NDArray, n2_vec: NDArray, force: NDArray, st: _Statics, driving: NDArray
 ) -> tuple[NDArray, NDArray, NDArray]:
