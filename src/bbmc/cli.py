@@ -67,7 +67,9 @@ def _run_stage(
 ) -> None:
     """Load the stage's config, run it, write its results. `progress_after_s`: the stage reports its
     steps, shown on stderr once the run has lasted that long (None: a stage without progress).
-    `options`: the command's own options, passed to the stage's run and recorded in its provenance."""
+    `options`: the command's own options, passed to the stage's run and recorded in its provenance.
+    A stage with `output_name(settings, config_path)` writes into that folder under its own, and one
+    with `summary_lines(result)` prints them."""
     with reported(stage.NAME, strict):
         settings = load_config(config_path, stage.Config)
         with scene_at_fault(config_path):
@@ -82,8 +84,13 @@ def _run_stage(
 
                 result = stage.run(settings, progress, **options)
         record = provenance(stage.NAME, config_path, settings) | options
-        written = write_stage(Path(results) / stage.NAME, result, record)
-    report_written(stage.NAME, Path(results) / stage.NAME, written)
+        out_dir = Path(results) / stage.NAME
+        if hasattr(stage, "output_name"):
+            out_dir = out_dir / stage.output_name(settings, config_path)
+        written = write_stage(out_dir, result, record)
+    for line in stage.summary_lines(result) if hasattr(stage, "summary_lines") else ():
+        click.echo(f"bbmc {stage.NAME}: {line}")
+    report_written(stage.NAME, out_dir, written)
 
 
 def _file_options(name: str, noun: str, default: str | None = None):
@@ -143,63 +150,20 @@ def main() -> None:
     """
 
 
-STAGE_HELP = {
-    fit_stage: """Table 1 / Fig 2 regressions and the Fig 1 curves.
-
-    \b
-    Example:
-      bbmc fit configs/fit.yaml
-    writes results/fit/table1_fits.csv, fig1_curves.csv, fig1.png, fig2.png, provenance.json
-    """,
-    mc_stage: """Equivalent Mohr-Coulomb phi, c (eqs 9-15) and the stiffness laws (eqs 2-8, 16-18).
-
-    \b
-    Example:
-      bbmc mc configs/mc.yaml
-    writes results/mc/mc_grid.csv, table3_mc.csv, tangent_lines.csv, stiffness_curves.csv,
-    envelope.png, phi_c.png, stiffness_laws.png, provenance.json
-    """,
-    joint_stage: """A joint's behaviour from its Barton-Bandis parameters, at lab and field scale: scale
-    effects, peak and residual envelopes with tangent phi and c, tau-delta and dilation curves, closure.
-
-    \b
-    Example:
-      bbmc joint configs/joint.yaml
-    writes results/joint/scale.csv, envelopes.csv, shear_curves.csv, closure.csv, envelopes.png,
-    shear_curves.png, mobilization.png, closure.png, provenance.json
-    """,
-    joints_stage: """Fit joint sets to a scanline survey (set, position, dip, dip direction, trace
-    length, hidden ends) and write them as a scene's joint sets (docs/field-data.md).
-
-    \b
-    Example:
-      bbmc joints configs/joints.yaml
-    writes results/joints/fits.csv (every candidate distribution: parameters, AIC, n, KS p-value),
-    sets.csv (orientation, Terzaghi factor, frequency, trace in the section), joint_sets.yaml (the
-    block a scene's rock_mass reads), histograms.png, rose.png, provenance.json
-    """,
-    audit_stage: """Recompute and judge every derivable number of the paper (docs/paper-audit.md).
-
-    \b
-    Example:
-      bbmc audit configs/audit.yaml
-    writes results/audit/audit.csv (one row per number: paper, ours, difference, verdict,
-    reasoning), summary.csv, provenance.json
-    """,
-}
+PAPER_STAGES = (fit_stage, mc_stage, joint_stage, joints_stage, audit_stage)  # their help: COMMAND_HELP
 
 
-def _register(stage: ModuleType, help_text: str) -> None:
-    """Add `bbmc <stage.NAME>`: load its config, run it, write its results."""
+def _register(stage: ModuleType) -> None:
+    """Add `bbmc <stage.NAME>`: load its config, run it, write its results (help: its COMMAND_HELP)."""
 
-    @main.command(name=stage.NAME, help=help_text)
+    @main.command(name=stage.NAME, help=stage.COMMAND_HELP)
     @_file_options(stage.NAME, "config", f"configs/{stage.NAME}.yaml")
     def command(config_path: Path, results: str, strict: bool) -> None:
         _run_stage(stage, config_path, results, strict)
 
 
-for _stage, _help in STAGE_HELP.items():
-    _register(_stage, _help)
+for _stage in PAPER_STAGES:
+    _register(_stage)
 
 
 _THREADS = click.option(
@@ -404,21 +368,15 @@ def wedge_command(config_path: Path, results: str, strict: bool) -> None:
       bbmc wedge configs/wedge_combinations.yaml
     writes results/wedge/<name>/ (the config's name, else its file's stem): wedge.csv (every number
     of the wedge: vertices, areas, volume, weight, line of intersection, H1, H, the loads, normal
-    reactions, driving and resisting forces, mode, FS),
-    design.csv (with a design: section: the bolts' direction, force, count and the FS they give),
-    combinations.csv (with a combinations: section: every pair's wedge, mode, FS, weight and what
-    drives it, sorted by FS, critical ones marked), provenance.json; prints the FS, the designs and
-    the critical wedges. A deterministic wedge that cannot form is refused in one line with the reason.
+    reactions, each plane's c and phi, driving and resisting forces, mode, FS), design.csv (with a
+    design: section: the bolts' direction, force, count and the FS they give), combinations.csv (with
+    a combinations: section: every pair's wedge, mode, FS, weight and what drives it, sorted by FS,
+    critical ones marked), and of the wedge drawn (the config's, else the lowest-FS pair) wedge.png,
+    wedge_net.png, wedge_bolted.png (with a design), vertices.csv, forces.csv, wedge.vtu;
+    provenance.json. Prints the FS, the designs and the critical wedges. A deterministic wedge that
+    cannot form is refused in one line with the reason.
     """
-    with reported(wedge_stage.NAME, strict):
-        settings = load_config(config_path, wedge_stage.Config)
-        with scene_at_fault(config_path):
-            result = wedge_stage.run(settings)
-        out_dir = Path(results) / wedge_stage.NAME / wedge_stage.output_name(settings, config_path)
-        written = write_stage(out_dir, result, provenance(wedge_stage.NAME, config_path, settings))
-    for line in wedge_stage.summary_lines(result):
-        click.echo(f"bbmc wedge: {line}")
-    report_written(wedge_stage.NAME, out_dir, written)
+    _run_stage(wedge_stage, config_path, results, strict, progress_after_s=2.0)
 
 
 @main.command(name="slope")

@@ -21,6 +21,14 @@ from bbmc.paper_inputs import Errata, load_inputs, parameters
 from bbmc.stages import fit, mc
 
 NAME = "audit"
+COMMAND_HELP = """Recompute and judge every derivable number of the paper (docs/paper-audit.md).
+
+    \b
+    Example:
+      bbmc audit configs/audit.yaml
+    writes results/audit/audit.csv (one row per number: paper, ours, difference, verdict,
+    reasoning), summary.csv, provenance.json
+    """  # `bbmc audit --help`
 
 
 class PaperTables(Section):

@@ -43,19 +43,17 @@ import time
 from collections.abc import Callable
 from typing import Annotated, Literal
 
-import numba
-import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 from pydantic import Field, model_validator
 
-from bbmc import laws, units
 from bbmc.bench import tradeoff as to
 from bbmc.bench.bandwidth import bandwidth_table, limit_table, slope_counts
 from bbmc.bench.economy import economy_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.fos_cost import fos_cost_table
 from bbmc.bench.kinematics_cost import kinematics_cost_table
+from bbmc.bench.law_speed import law_speed_table
 from bbmc.bench.machine import machine_table, now_utc
 from bbmc.bench.mobilized_cost import mobilized_cost_table
 from bbmc.bench.paper_scenes import ShearScene, SlopeScene
@@ -66,7 +64,6 @@ from bbmc.bench.sweep_cost import sweep_cost_table
 from bbmc.bench.wedge_cost import wedge_cost_table
 from bbmc.config import ConfigError, InputFile, Section
 from bbmc.io import StageResult
-from bbmc.laws import stiffness, strength
 
 NAME = "bench"
 SECTIONS = (
@@ -255,76 +252,6 @@ class Config(Section):
         return self
 
 
-@numba.njit(cache=True)
-def _kernel_loop(law, values, out, *params):
-    for i in range(values.size):
-        out[i] = law(values[i], *params)
-
-
-def _cases() -> list[tuple[str, numba.core.registry.CPUDispatcher, Callable, tuple[float, ...]]]:
-    deg, mpa = units.deg, units.MPa
-    bb = (2.13, 3.31 * mpa, 32 * deg, 70 * deg)
-    return [
-        ("peak_shear_strength (eq 9)", strength.peak_shear_strength, laws.peak_shear_strength, bb),
-        (
-            "equivalent_friction_angle (eq 14)",
-            strength.equivalent_friction_angle,
-            laws.equivalent_friction_angle,
-            (*bb, 0.016),
-        ),
-        (
-            "corrected_shear_stiffness (eq 16)",
-            stiffness.corrected_shear_stiffness,
-            laws.corrected_shear_stiffness,
-            (0.9e9, 0.13 * mpa, 0.14 * mpa, 0.312, 0.7188),
-        ),
-        ("normal_stiffness (eq 8)", stiffness.normal_stiffness, laws.normal_stiffness, (7715.0, 0.3434)),
-    ]
-
-
-def _best_seconds(action: Callable[[], object], repeats: int) -> float:
-    best = np.inf
-    for _ in range(repeats):
-        start = time.perf_counter()
-        action()
-        best = min(best, time.perf_counter() - start)
-    return best
-
-
-def law_table(config: Laws) -> pd.DataFrame:
-    """Time every law three ways on the same inputs (after a warm-up call compiles them)."""
-    rows = []
-    values = np.geomspace(1.0, 1e8, config.array_size)
-    small = values[:: max(1, values.size // config.python_loop_size)][: config.python_loop_size]
-    out = np.empty_like(values)
-    for name, kernel, ufunc, params in _cases():
-        ufunc(values[:10], *params)
-        _kernel_loop(kernel, values[:10], out[:10], *params)
-        source = kernel.py_func
-        t_ufunc = _best_seconds(lambda u=ufunc, p=params: u(values, *p), config.repeats)
-        t_kernel = _best_seconds(lambda k=kernel, p=params: _kernel_loop(k, values, out, *p), config.repeats)
-        t_python = _best_seconds(lambda s=source, p=params: [s(v, *p) for v in small], config.repeats)
-        rate = {
-            "ufunc": values.size / t_ufunc,
-            "njit": values.size / t_kernel,
-            "python": small.size / t_python,
-        }
-        rows.append(
-            {
-                "law": name,
-                "ufunc_evals_per_s": rate["ufunc"],
-                "njit_kernel_evals_per_s": rate["njit"],
-                "python_evals_per_s": rate["python"],
-                "njit_over_python": rate["njit"] / rate["python"],
-                "ufunc_over_python": rate["ufunc"] / rate["python"],
-                "njit_over_ufunc": rate["njit"] / rate["ufunc"],
-                "array_size": values.size,
-                "python_loop_size": small.size,
-            }
-        )
-    return pd.DataFrame(rows)
-
-
 class PaperScenes:
     """The paper's scenes by name, each built once and shared by the sections that run it."""
 
@@ -406,7 +333,9 @@ def sweep_part(config: Config, scenes: PaperScenes, progress: Callable[[str], No
 
 def laws_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
     progress("joint laws' throughput")
-    return {"laws": law_table(config.laws)}, {}
+    laws_config = config.laws
+    table = law_speed_table(laws_config.array_size, laws_config.python_loop_size, laws_config.repeats)
+    return {"laws": table}, {}
 
 
 def rockmass_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:

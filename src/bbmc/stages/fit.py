@@ -22,6 +22,13 @@ from bbmc.io import StageResult, require_distinct
 from bbmc.paper_inputs import Fig2aUnits
 
 NAME = "fit"
+COMMAND_HELP = """Table 1 / Fig 2 regressions and the Fig 1 curves.
+
+    \b
+    Example:
+      bbmc fit configs/fit.yaml
+    writes results/fit/table1_fits.csv, fig1_curves.csv, fig1.png, fig2.png, provenance.json
+    """  # `bbmc fit --help`
 
 STRESS_UNITS = {"Pa": units.Pa, "kPa": units.kPa, "MPa": units.MPa}
 LENGTH_UNITS = {"m": units.m, "mm": units.mm}

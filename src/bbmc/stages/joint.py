@@ -20,6 +20,15 @@ from bbmc.joint.inputs import FullJointInputs, wall_not_stronger_than_rock
 from bbmc.laws.mobilized import MOBILIZATION_TABLE
 
 NAME = "joint"
+COMMAND_HELP = """A joint's behaviour from its Barton-Bandis parameters, at lab and field scale: scale
+    effects, peak and residual envelopes with tangent phi and c, tau-delta and dilation curves, closure.
+
+    \b
+    Example:
+      bbmc joint configs/joint.yaml
+    writes results/joint/scale.csv, envelopes.csv, shear_curves.csv, closure.csv, envelopes.png,
+    shear_curves.png, mobilization.png, closure.png, provenance.json
+    """  # `bbmc joint --help`
 
 
 class Config(FullJointInputs):

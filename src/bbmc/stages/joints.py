@@ -25,6 +25,16 @@ from bbmc.geometry.orientation import goodness, line_direction, section_trace
 from bbmc.io import StageResult
 
 NAME = "joints"
+COMMAND_HELP = """Fit joint sets to a scanline survey (set, position, dip, dip direction, trace
+    length, hidden ends) and write them as a scene's joint sets (docs/field-data.md).
+
+    \b
+    Example:
+      bbmc joints configs/joints.yaml
+    writes results/joints/fits.csv (every candidate distribution: parameters, AIC, n, KS p-value),
+    sets.csv (orientation, Terzaghi factor, frequency, trace in the section), joint_sets.yaml (the
+    block a scene's rock_mass reads), histograms.png, rose.png, provenance.json
+    """  # `bbmc joints --help`
 
 
 Azimuth = Annotated[float, Field(ge=0, le=360)]

@@ -19,6 +19,14 @@ from bbmc.joint import model as jm
 from bbmc.paper_inputs import Coefficients, Errata, Inputs, load_inputs, parameters
 
 NAME = "mc"
+COMMAND_HELP = """Equivalent Mohr-Coulomb phi, c (eqs 9-15) and the stiffness laws (eqs 2-8, 16-18).
+
+    \b
+    Example:
+      bbmc mc configs/mc.yaml
+    writes results/mc/mc_grid.csv, table3_mc.csv, tangent_lines.csv, stiffness_curves.csv,
+    envelope.png, phi_c.png, stiffness_laws.png, provenance.json
+    """  # `bbmc mc --help`
 
 
 class Grid(Section):
