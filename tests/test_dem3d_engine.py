@@ -236,3 +236,26 @@ def test_very_slender_block_on_a_weak_plane_slides_and_topples():
     turn = track.turn()[-1]
     assert turn @ frame[:, 1] > math.radians(3.0)
     assert (track.point(edge)[-1] - edge) @ frame[:, 0] > 0.1
+
+
+def test_a_contact_takes_the_joint_type_of_its_blocks_groups():
+    """Two blocks side by side on a held base: the base–block contacts (groups 0 and 1) take joint type 1,
+    the block–block contact (groups 1 and 1) type 0; a table that is not square and symmetric, or names
+    a joint type or group that does not exist, is refused in one line."""
+    frame = incline_frame()
+    base = moved(box([-60, -20, -10], [30, 20, 0]), frame, np.zeros(3))
+    left = moved(box([-5, -5, 0], [5, 0, 5]), frame, np.zeros(3))
+    right = moved(box([-5, 0, 0], [5, 5, 5]), frame, np.zeros(3))
+    laws = [MohrCoulomb(KN, KN / 2, math.radians(60.0)), MohrCoulomb(KN, KN / 2, math.radians(20.0))]
+    model = build_model([base, left, right], RHO, laws, held=[0], group=[0, 1, 1],
+                        pair_joint=np.array([[0, 1], [1, 0]]))  # fmt: skip
+    search(model)
+    types = {(int(r[0]), int(r[1])): int(r[2]) for r in model.contacts}
+    assert types[(1, 0)] == types[(2, 0)] == 1
+    assert types[(1, 2)] == 0
+    with pytest.raises(ValueError, match="pair_joint: must be a square, symmetric"):
+        build_model([base, left], RHO, laws, held=[0], group=[0, 1], pair_joint=np.array([[0, 1], [0, 0]]))
+    with pytest.raises(ValueError, match=r"pair_joint: joint types must be 0\.\.1"):
+        build_model([base, left], RHO, laws, held=[0], group=[0, 1], pair_joint=np.array([[0, 2], [2, 0]]))
+    with pytest.raises(ValueError, match=r"group: must be 0\.\.1"):
+        build_model([base, left], RHO, laws, held=[0], group=[0, 2], pair_joint=np.array([[0, 1], [1, 0]]))

@@ -35,8 +35,10 @@ START_OVERLAP = 0.01  # x the smaller block's size: the deepest overlap a start 
 class Model:
     """Blocks, their faces, joint types and contact state (arrays as the module docstring says).
 
-    `size` (n,): each block's size, twice its RADIUS [m], the scale of contact tolerances; `joint_laws`
-    the law codes and parameters (`bbmc.dem3d.joint_laws`), every contact of joint type 0 so far;
+    `size` (n,): each block's size, twice its RADIUS [m], the scale of contact tolerances; `law_codes`,
+    `law_params` the joint types' tables (`bbmc.dem3d.joint_laws`); `group` (n,) int64 each block's group
+    and `pair_joint` (g, g) int64, symmetric, the joint type of a contact between blocks of groups i and j
+    (set when the pair is found, `bbmc.dem3d.solver.search`);
     `refine`: the face triangulation's refinement; `margin` [m]: the broad phase's. The contact state:
     `contacts` (int64, CONTACT_COLUMNS), `contact_values` (float64, CONTACT_VALUES), `subs` (float64,
     SUB_COLUMNS) as `bbmc.dem3d.contact_forces` lays them out; `vertices_at_search`; `step`."""
@@ -57,6 +59,8 @@ class Model:
     gravity: np.ndarray
     refine: int
     margin: float
+    group: np.ndarray
+    pair_joint: np.ndarray
     contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_COLUMNS), dtype=np.int64))
     contact_values: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_VALUES)))
     subs: np.ndarray = field(default_factory=lambda: np.zeros((0, SUB_COLUMNS)))
@@ -72,13 +76,20 @@ def build_model(
     held: Sequence[int] = (),
     gravity: Sequence[float] = (0.0, 0.0, -9.81),
     refine: int = 1,
+    group: Sequence[int] | None = None,
+    pair_joint: np.ndarray | None = None,
 ) -> Model:
     """The model of these blocks, of `density` [kg/m³] (one for all or one each), on the joint types
-    `laws` (every contact takes the first so far), blocks `held` fixed in all six degrees of freedom,
-    `gravity` [m/s²], the face triangulation refined `refine` times (each triangle split in four).
-    Refused in one line naming the block: a density <= 0, a held index out of range, a bad law, two
-    free blocks (or a free and a held one) overlapping at the start (`_refuse_overlaps`)."""
+    `laws`, blocks `held` fixed in all six degrees of freedom, `gravity` [m/s²], the face triangulation
+    refined `refine` times (each triangle split in four). A contact between a block of `group` i and one
+    of group j takes joint type `pair_joint[i, j]` (default: every block in group 0, every contact of
+    joint type 0). Refused in one line naming the block or key: a density <= 0, a held index out of
+    range, a bad law, a group or joint type out of range, an asymmetric `pair_joint`, two free blocks
+    (or a free and a held one) overlapping at the start (`_refuse_overlaps`)."""
     n = len(polyhedra)
+    groups = np.zeros(n, dtype=np.int64) if group is None else np.asarray(group, dtype=np.int64)
+    pairs = np.zeros((1, 1), dtype=np.int64) if pair_joint is None else np.asarray(pair_joint, dtype=np.int64)
+    _check_groups(groups, pairs, n, len(laws))
     densities = np.broadcast_to(np.asarray(density, dtype=float), (n,))
     if refine < 0:
         raise ValueError(f"refine: must be >= 0, got {refine}")
@@ -128,11 +139,29 @@ def build_model(
         gravity=np.asarray(gravity, dtype=float),
         refine=int(refine),
         margin=SEARCH_MARGIN * float(size.min()),
+        group=groups,
+        pair_joint=pairs,
     )
     place(model.blocks, model.body_vertices, model.vertex_start, model.body_normals, model.block_face_start,
           model.vertices, model.face_normal)  # fmt: skip
     _refuse_overlaps(model, np.array([i in held for i in range(n)]))
     return model
+
+
+def _check_groups(group: np.ndarray, pair_joint: np.ndarray, n: int, types: int) -> None:
+    """ValueError in one line: a group per block, each a row of a square, symmetric `pair_joint` whose
+    entries are joint types 0..types-1."""
+    if group.shape != (n,):
+        raise ValueError(f"group: one per block ({n}), got {group.shape[0] if group.ndim else 0}")
+    g = pair_joint.shape[0]
+    if pair_joint.ndim != 2 or pair_joint.shape != (g, g) or not np.array_equal(pair_joint, pair_joint.T):
+        raise ValueError("pair_joint: must be a square, symmetric table of joint types")
+    if n and not (group.min() >= 0 and group.max() < g):
+        got = f"{group.min()}..{group.max()}"
+        raise ValueError(f"group: must be 0..{g - 1} (the rows of pair_joint), got {got}")
+    if not (pair_joint.min() >= 0 and pair_joint.max() < types):
+        got = f"{pair_joint.min()}..{pair_joint.max()}"
+        raise ValueError(f"pair_joint: joint types must be 0..{types - 1}, got {got}")
 
 
 def _refuse_overlaps(model: Model, held: np.ndarray) -> None:

@@ -25,6 +25,7 @@ from bbmc.dem3d.contact_forces import (
     CONTACT_COLUMNS,
     CONTACT_VALUES,
     FIRST_SUB,
+    JOINT_TYPE,
     KEY,
     NONE,
     SUB_COLUMNS,
@@ -77,6 +78,7 @@ def search(model: Model) -> None:
         k = old.get((a, b))
         if k is None:
             contacts[c, BLOCK_A], contacts[c, BLOCK_B] = a, b
+            contacts[c, JOINT_TYPE] = model.pair_joint[model.group[a], model.group[b]]
             contacts[c, AXIS_KIND : AXIS_KIND + 3] = -1
             contacts[c, KEY] = NONE
         else:
@@ -128,11 +130,11 @@ def run(model: Model, steps: int, dt: float, damping: float = 0.0) -> None:
 def time_step(model: Model, safety: float = 0.5, damping: float = 0.0) -> float:
     """`safety` x the critical step [s] (`critical_time_step`) of the model as it stands: every pair
     within the search margin counted as a spring bed over its whole contact patch (face–face: the
-    overlap polygon, its polar moment; degenerate contacts: their nominal area) of the first joint
+    overlap polygon, its polar moment; degenerate contacts: their nominal area) of the stiffest joint
     type's K_n and K_s; +inf with no such pair."""
     n = model.blocks.shape[0]
     k_t, k_r = np.zeros(n), np.zeros(n)
-    kn, ks = model.law_params[0, P_KN], model.law_params[0, P_KS]
+    kn, ks = model.law_params[:, P_KN].max(), model.law_params[:, P_KS].max()
     arrays = _geometry(model)[:6]
     for a, b in candidate_pairs(model.vertices, model.vertex_start, _held(model), model.margin):
         scale = min(model.size[a], model.size[b])
