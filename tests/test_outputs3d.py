@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from matplotlib import colors
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 from scipy.spatial.transform import Rotation
@@ -17,7 +18,7 @@ from bbmc.dem3d.model import build_model, place
 from bbmc.dem3d.solver import run, time_step
 from bbmc.dem3d.tables import block_table, contact_table
 from bbmc.geometry.polyhedra import box, moved
-from bbmc.outputs.figures3d import HELD_COLOUR, mechanism_figure, view_azimuth
+from bbmc.outputs.figures3d import ARROW_COLOUR, HELD_COLOUR, mechanism_figure, view_azimuth
 from bbmc.outputs.vtk import read_vtu
 from bbmc.outputs.vtk3d import Series3D
 
@@ -96,8 +97,10 @@ def test_block_table_refuses_a_start_of_another_model():
     model, _ = incline()
     with pytest.raises(ValueError, match="start: a copy of the model's blocks"):
         block_table(model, model.blocks[:1])
-    with pytest.raises(ValueError, match="names: one name per name"):
+    with pytest.raises(ValueError, match=r"names: one name per block \(2\), got 1"):
         block_table(model, model.blocks.copy(), names=["one"])
+    with pytest.raises(ValueError, match=r"law_names: one name per joint type \(1\), got 2"):
+        contact_table(model, law_names=["a", "b"])
 
 
 def test_contact_table_reads_the_sub_contacts(slid):
@@ -172,12 +175,14 @@ def test_mechanism_figure(slid):
     assert ax.get_xlabel() == "x (east) [m]" and ax.get_zlabel() == "z (up) [m]"
     assert "displacement" in bar.get_ylabel()
     (faces,) = [c for c in ax.collections if isinstance(c, Poly3DCollection)]
-    (outlines,) = [c for c in ax.collections if isinstance(c, Line3DCollection)]
+    outlines, arrows = [c for c in ax.collections if isinstance(c, Line3DCollection)]
+    assert np.allclose(arrows.get_color(), colors.to_rgba(ARROW_COLOUR))
     grey = np.all(np.isclose(faces.get_facecolor(), HELD_COLOUR), axis=1)
     assert grey.sum() == 6  # the held base's faces (in depth order: mplot3d sorts them)
     assert np.unique(faces.get_facecolor()[~grey], axis=0).shape == (1, 4)  # the slider's one colour
     FigureCanvasAgg(fig).draw()
     assert len(outlines.get_segments()) == 12  # the start's faces, projected at the draw
+    assert len(arrows.get_segments()) == 3  # the slider's arrow: shaft and two strokes of its head
     assert "slider moved most" in fig._suptitle.get_text()
     # looking along the strike: the view's azimuth is the dip direction's less 90 deg
     down = 90.0 - math.degrees(ALPHA)  # the dip direction's angle from east, anticlockwise [deg]

@@ -56,12 +56,12 @@ NO_TURN = 1e-12  # sin(angle / 2) below this is round-off of equal orientations:
 CONTACT_KINDS = ("face-face", "edge-face", "vertex-face", "edge-edge")  # by `contact_geometry`'s codes
 
 
-def _labels(values: Sequence[str] | None, count: int, what: str) -> np.ndarray:
+def _labels(values: Sequence[str] | None, count: int, key: str, item: str) -> np.ndarray:
     """Names for `count` items (their indices if none), as an object array; a wrong count refused."""
     if values is None:
         return np.arange(count, dtype=object)
     if len(values) != count:
-        raise ValueError(f"{what}: one name per {what[:-1]} ({count}), got {len(values)}")
+        raise ValueError(f"{key}: one name per {item} ({count}), got {len(values)}")
     return np.array(list(values), dtype=object)
 
 
@@ -108,12 +108,12 @@ def block_table(
     b = model.blocks
     if start.shape != b.shape:
         raise ValueError(f"start: a copy of the model's blocks {b.shape} is needed, got {start.shape}")
-    group_names = _labels(groups, int(model.pair_joint.shape[0]), "groups")
+    group_names = _labels(groups, int(model.pair_joint.shape[0]), "groups", "group")
     angle, axis = rotations(start, b)
     moved = (b[:, X : X + 3] - start[:, X : X + 3]) / units.mm
     return pd.DataFrame(
         {
-            "block": _labels(names, len(b), "names"),
+            "block": _labels(names, len(b), "names", "block"),
             "group": group_names[model.group],
             "x0_m": start[:, X],
             "y0_m": start[:, X + 1],
@@ -171,8 +171,8 @@ def contact_table(
     share index, centroid [m], normal, closed area [m²], sigma_n (compression positive), |tau| and
     tau [MPa], |u_s| and u_s [mm], slip path [mm], slipped."""
     contacts, subs = model.contacts, model.subs
-    laws = _labels(law_names, len(model.law_codes), "law_names")
-    blocks = _labels(names, len(model.blocks), "names")
+    laws = _labels(law_names, len(model.law_codes), "law_names", "joint type")
+    blocks = _labels(names, len(model.blocks), "names", "block")
     used = shares_in_use(model)
     pair = np.repeat(np.arange(len(contacts)), used)
     share = np.arange(int(used.sum())) - np.repeat(np.cumsum(used) - used, used)

@@ -121,6 +121,7 @@ class Series3D:
     files: dict[str, bytes | str] = field(default_factory=dict)
     times: list[float] = field(default_factory=list)
     seen: int = 0
+    start: np.ndarray = field(init=False)  # the blocks when the series was made
 
     def __post_init__(self) -> None:
         self.start = self.model.blocks.copy()
