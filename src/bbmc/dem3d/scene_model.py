@@ -191,13 +191,12 @@ def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel
     """The model of the scene's blocks and rock mass, and the `extra` pieces (the module docstring)."""
     pieces = [*block_pieces(scene), *(rock_mass_pieces(scene.rock_mass) if scene.rock_mass else []), *extra]
     names = [p.name for p in pieces]
-    for p in pieces:
-        if names.count(p.name) > 1:
+    for k, p in enumerate(pieces):
+        if p.name in names[:k]:
             raise ConfigKeyError(p.key, f"two blocks are called '{p.name}': names must differ")
         if p.material not in scene.materials:
-            raise ConfigKeyError(
-                f"{p.key}.material", f"no material '{p.material}' (materials: {', '.join(scene.materials)})"
-            )
+            known = ", ".join(scene.materials)
+            raise ConfigKeyError(f"{p.key}.material", f"no material '{p.material}' (materials: {known})")
     _, table, group_index = _pair_joint(scene, [p.group for p in pieces])
     laws = [joint_law(section) for section in scene.joint_types.values()]
     density = [scene.materials[p.material].density_kg_m3 for p in pieces]

@@ -8,7 +8,8 @@ checked at record steps, whichever comes first.
 Monitors (at the record step): a block's centroid displacement ux, uy, uz and its length
 `displacement` [m], its velocity vx, vy, vz and `speed` [m/s], its `rotation` since the start [deg]
 (the angle of q q0^-1); the system's kinetic energy (1/2 m v.v + 1/2 w.(J w), true masses) [J] and
-the unbalanced-force ratio [1]. Units: SI.
+the unbalanced-force ratio [1]. history.csv names a monitor's column <name>_<unit> and gives it in
+that unit (`UNITS`, as the 2D history: mm, m_s, deg, J, 1). Units: SI inside.
 """
 
 from __future__ import annotations
@@ -29,6 +30,14 @@ from bbmc.dem3d.scene_model import SceneModel
 from bbmc.dem3d.solver import run, time_step
 from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.scene.schema3d import Monitor3D, Scene3D
+
+UNITS = {
+    **dict.fromkeys(("ux", "uy", "uz", "displacement"), ("mm", 1e3)),
+    **dict.fromkeys(("vx", "vy", "vz", "speed"), ("m_s", 1.0)),
+    "rotation": ("deg", 1.0),
+    "kinetic_energy": ("J", 1.0),
+    "unbalanced_force_ratio": ("1", 1.0),
+}  # the quantity's unit in history.csv and its factor from the reading's (m, m/s, deg, J, 1)
 
 
 @dataclass(frozen=True)
@@ -122,7 +131,8 @@ def run_scene(sm: SceneModel, scene: Scene3D, progress: ProgressCallback = ignor
 
     def record() -> None:
         readings = [
-            _reading(m, sm, i, reference) for m, i in zip(scene.monitoring.monitors, targets, strict=True)
+            _reading(m, sm, i, reference) * UNITS[m.quantity][1]
+            for m, i in zip(scene.monitoring.monitors, targets, strict=True)
         ]
         rows.append([model.step - first, (model.step - first) * dt, *readings])
 
@@ -147,7 +157,7 @@ def run_scene(sm: SceneModel, scene: Scene3D, progress: ProgressCallback = ignor
             stopped_by = "time"
         if stopped_by != "steps":
             break
-    columns = ["step", "time_s", *(m.name for m in scene.monitoring.monitors)]
+    columns = ["step", "time_s", *(f"{m.name}_{UNITS[m.quantity][0]}" for m in scene.monitoring.monitors)]
     steps = model.step - first
     ratio = monitors.unbalanced_force_ratio(model, reference)
     return RunOutcome3D(
