@@ -14,7 +14,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from bbmc.config import ConfigError, Section, read_yaml
 from bbmc.scene.fos_settings import StrengthReduction
@@ -260,10 +260,14 @@ class Scene3D(Section):
     fos: StrengthReduction = StrengthReduction()
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
+    @field_validator("water", "support")
+    @classmethod
+    def _not_yet_in_3d(cls, value: object) -> None:
+        if value is not None:
+            raise ValueError("not yet in 3D")
+
     @model_validator(mode="after")
     def _whole(self) -> Scene3D:
-        _not_yet("support", self.support)
-        _not_yet("water", self.water)
         _not_yet("fos.judge.region_m", self.fos.judge.region_m)
         if self.fos.barton_bandis_reduction != "envelope":
             raise ValueError("fos.barton_bandis_reduction: only 'envelope' exists in 3D so far")
