@@ -81,7 +81,9 @@ def test_a_3d_run_writes_its_history_and_stops_once_balanced(tmp_path):
     assert summary["stopped_by_ratio"] == 1 and summary["steps"] < 3000
     closure_mm = 2500 * 9.81 / 1e9 * 1e3  # m g / (K_n A), A = 1 m2, in mm
     assert history["settle_mm"].iloc[-1] == pytest.approx(-closure_mm, rel=0.05)  # 5 %: damped, ratio 1e-3
-    assert {"provenance.json", "history.png"} <= {p.name for p in out.iterdir()}
+    assert {"provenance.json", "history.png", "mechanism.png", "blocks.csv", "contacts.csv"} <= {
+        p.name for p in out.iterdir()
+    }
 
 
 def test_the_example_wedge_fs_matches_its_limit_equilibrium(tmp_path):

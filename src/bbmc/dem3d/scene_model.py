@@ -46,14 +46,16 @@ class Piece:
 
 @dataclass
 class SceneModel:
-    """The model with what names its parts: each block's name and group, each joint type's name, and
-    the blocks' state at the start (`blocks`, a copy of the block array before any step)."""
+    """The model with what names its parts: each block's name and group, each joint type's name, the
+    groups' names in the order of their indices (`group_names`, the model's `group`), and the blocks'
+    state at the start (`start`, a copy of the block array before any step)."""
 
     model: Model
     names: list[str]
     groups: list[str]
     joint_type_names: list[str]
     start: np.ndarray
+    group_names: list[str]
 
     def index(self, name: str, key: str) -> int:
         """The block called `name`; ConfigKeyError at `key` naming the closest names otherwise."""
@@ -197,7 +199,7 @@ def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel
         if p.material not in scene.materials:
             known = ", ".join(scene.materials)
             raise ConfigKeyError(f"{p.key}.material", f"no material '{p.material}' (materials: {known})")
-    _, table, group_index = _pair_joint(scene, [p.group for p in pieces])
+    group_names, table, group_index = _pair_joint(scene, [p.group for p in pieces])
     laws = [joint_law(section) for section in scene.joint_types.values()]
     density = [scene.materials[p.material].density_kg_m3 for p in pieces]
     held = [i for i, p in enumerate(pieces) if p.held or p.velocity is not None]
@@ -209,7 +211,9 @@ def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel
     for i, p in enumerate(pieces):
         if p.velocity is not None:
             model.blocks[i, VPX : VPX + 3] = p.velocity
-    return SceneModel(model, names, [p.group for p in pieces], list(scene.joint_types), model.blocks.copy())
+    return SceneModel(
+        model, names, [p.group for p in pieces], list(scene.joint_types), model.blocks.copy(), group_names
+    )
 
 
 def _gravity(scene: Scene3D) -> np.ndarray:

@@ -15,6 +15,7 @@ that unit (`UNITS`, as the 2D history: mm, m_s, deg, J, 1). Units: SI inside.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numba
@@ -110,9 +111,15 @@ def _free_vertices(model: Model) -> np.ndarray:
     return np.repeat(monitors.free_blocks(model), np.diff(model.vertex_start))
 
 
-def run_scene(sm: SceneModel, scene: Scene3D, progress: ProgressCallback = ignore) -> RunOutcome3D:
+def run_scene(
+    sm: SceneModel,
+    scene: Scene3D,
+    progress: ProgressCallback = ignore,
+    on_record: Callable[[Model, float], None] | None = None,
+) -> RunOutcome3D:
     """Run the scene's model `sm` in place for `scene.solver` (module docstring), reporting `progress`
-    in steps at every record. A scene with no contact to take a time step from is refused."""
+    in steps at every record and calling `on_record(model, time [s])` there (a ParaView series). A
+    scene with no contact to take a time step from is refused."""
     model, solver = sm.model, scene.solver
     targets = _targets(scene, sm)
     dt = time_step(model, solver.safety_factor, solver.damping)
@@ -135,6 +142,8 @@ def run_scene(sm: SceneModel, scene: Scene3D, progress: ProgressCallback = ignor
             for m, i in zip(scene.monitoring.monitors, targets, strict=True)
         ]
         rows.append([model.step - first, (model.step - first) * dt, *readings])
+        if on_record is not None:
+            on_record(model, (model.step - first) * dt)
 
     def largest() -> float:
         return float(np.max(np.linalg.norm(model.vertices[moving] - origin, axis=1), initial=0.0))
