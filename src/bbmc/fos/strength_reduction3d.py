@@ -34,6 +34,7 @@ from bbmc.dem3d.model import Model
 from bbmc.dem3d.solver import run, time_step
 from bbmc.fos import search
 from bbmc.fos.result import Trial
+from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.scene.fos_settings import StrengthReduction
 
 FAILURE_FRACTION = 0.05  # the default failure displacement, x the median size of the free blocks [1]
@@ -106,12 +107,14 @@ def factor_of_safety_3d(
     safety: float = 0.5,
     equilibrium_steps: int = 100_000,
     judged: Sequence[int] | None = None,
+    progress: ProgressCallback = ignore,
 ) -> StrengthReduction3DResult:
     """The factor of safety of the 3D `model` (module docstring) with the search `settings` (default
     `StrengthReduction()`), local damping `damping` [1], the time step `safety` x critical, at most
     `equilibrium_steps` steps to the unreduced equilibrium, the verdicts read on the blocks `judged`
-    (indices; default every block free to move). The model is left as it was given. ValueError: the
-    ``phi_b_jrc`` reduction, a judged index out of range, no equilibrium with the strengths as given."""
+    (indices; default every block free to move); `progress` gets each trial's verdict. The model is
+    left as it was given. ValueError: the ``phi_b_jrc`` reduction, a judged index out of range, no
+    equilibrium with the strengths as given."""
     settings = StrengthReduction() if settings is None else settings
     if settings.barton_bandis_reduction != "envelope":
         raise ValueError("fos.barton_bandis_reduction: only 'envelope' exists in 3D so far")
@@ -152,6 +155,8 @@ def factor_of_safety_3d(
                 seconds=time.perf_counter() - clock,
             )
         )
+        holds = "holds" if verdict == STABLE else "fails"
+        progress(Progress(len(trials), None, "trials", f"trial {len(trials)} at F = {factor:.4g}: {holds}"))
         return verdict == STABLE
 
     fs, bracket, bracketed = search.bracket_factor(

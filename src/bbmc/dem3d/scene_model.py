@@ -1,0 +1,246 @@
+"""A 3D scene (`bbmc.scene.schema3d.Scene3D`) made into the engine's model: its blocks as convex
+polyhedra (`bbmc.geometry.polyhedra`), its rock mass cut by its joint sets
+(`bbmc.geometry.polyhedron_cutting`), its joint types (`bbmc.dem3d.joint_laws`) and the contact rules
+as the groups' table `pair_joint`, gravity with the pseudo-static seismic load, held and moving blocks.
+
+Units: the scene's (MPa, MPa/mm, deg) converted to SI here: Pa, Pa/m, rad. A fault found while
+building (an unknown name, a shape that is no convex polyhedron, blocks overlapping at the start, a
+joint set that cuts nothing) is a `ConfigKeyError` naming the key and the block, raised before any step.
+Generated blocks (the wedge's, `bbmc.slope.scene3d`) come in as `Piece`s beside the scene's own.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from bbmc import units
+from bbmc.config import ConfigKeyError
+from bbmc.dem3d.joint_laws import BartonBandis, JointLaw, MohrCoulomb
+from bbmc.dem3d.layout import FREE, VPX
+from bbmc.dem3d.model import Model, build_model
+from bbmc.geometry.polyhedra import Polyhedron, box, extrude, from_vertices
+from bbmc.geometry.polyhedron_cutting import cut_by_joint_sets
+from bbmc.scene.schema3d import Block3D, Box, JointType, RockMass3D, Scene3D
+
+SIDE_TOLERANCE = 1e-6  # a face lies on a side of the bounding box within this x its size [1]
+
+
+@dataclass(frozen=True)
+class Piece:
+    """A block before the model: its `name`, `group`, `material`, shape, and `key` (the scene key that
+    gave it, for messages); held, or moving at `velocity` [m/s] (None: free unless held)."""
+
+    name: str
+    group: str
+    material: str
+    shape: Polyhedron
+    key: str
+    held: bool = False
+    velocity: tuple[float, float, float] | None = None
+
+
+@dataclass
+class SceneModel:
+    """The model with what names its parts: each block's name and group, each joint type's name, the
+    groups' names in the order of their indices (`group_names`, the model's `group`), and the blocks'
+    state at the start (`start`, a copy of the block array before any step)."""
+
+    model: Model
+    names: list[str]
+    groups: list[str]
+    joint_type_names: list[str]
+    start: np.ndarray
+    group_names: list[str]
+
+    def index(self, name: str, key: str) -> int:
+        """The block called `name`; ConfigKeyError at `key` naming the closest names otherwise."""
+        if name not in self.names:
+            raise ConfigKeyError(key, f"no block '{name}' (blocks: {', '.join(self.names[:8])}...)")
+        return self.names.index(name)
+
+
+def joint_law(section: JointType) -> JointLaw:
+    """The engine's law of a scene's joint type, in SI."""
+    kn, ks = section.kn_MPa_per_mm * units.MPa_per_mm, section.ks_MPa_per_mm * units.MPa_per_mm
+    if section.law == "mohr_coulomb":
+        return MohrCoulomb(
+            kn, ks, section.friction_deg * units.deg, section.cohesion_MPa * units.MPa, section.after_slip
+        )
+    k = section.tangent_coefficient
+    return BartonBandis(
+        kn,
+        ks,
+        section.jrc,
+        section.jcs_MPa * units.MPa,
+        section.phi_b_deg * units.deg,
+        section.phi_max_deg * units.deg,
+        None if k == "exact" else k,
+        section.after_slip,
+    )
+
+
+def _box(section: Box, name: str) -> Polyhedron:
+    return box(section.lo_m, section.hi_m, name=name)
+
+
+def _shape(block: Block3D) -> Polyhedron:
+    if block.vertices_m is not None:
+        return from_vertices(np.array(block.vertices_m), name=block.name)
+    if block.box is not None:
+        return _box(block.box, block.name)
+    return extrude(np.array(block.extrusion.polygon_m), *block.extrusion.y_m, name=block.name)
+
+
+def block_pieces(scene: Scene3D) -> list[Piece]:
+    """The scene's `blocks:` as pieces; a shape refused names its key (blocks.i) and block."""
+    pieces = []
+    for i, block in enumerate(scene.blocks):
+        try:
+            shape = _shape(block)
+        except ValueError as error:
+            raise ConfigKeyError(f"blocks.{i}", str(error)) from None
+        velocity = None if block.velocity_m_s is None else tuple(block.velocity_m_s)
+        group = block.group or block.name
+        pieces.append(Piece(block.name, group, block.material, shape, f"blocks.{i}", block.held, velocity))
+    return pieces
+
+
+SIDES = {
+    "bottom": (2, -1.0),
+    "top": (2, 1.0),
+    "-x": (0, -1.0),
+    "+x": (0, 1.0),
+    "-y": (1, -1.0),
+    "+y": (1, 1.0),
+}
+
+
+def _on_side(shape: Polyhedron, bounds: np.ndarray, side: str, size: float) -> bool:
+    """Whether a face of `shape` lies on `side` of the bounding box `bounds` (2, 3) [m] of size `size`:
+    its outward normal is the side's and its plane the side's, within SIDE_TOLERANCE."""
+    axis, sense = SIDES[side]
+    level = bounds[1 if sense > 0 else 0, axis]
+    along = shape.normals[:, axis] * sense > 1.0 - SIDE_TOLERANCE
+    return bool(np.any(along & (np.abs(shape.offsets - sense * level) <= SIDE_TOLERANCE * size)))
+
+
+def rock_mass_pieces(section: RockMass3D) -> list[Piece]:
+    """The rock mass's blocks (`RockMass3D`): the shape cut by its joint sets, slivers merged by
+    `min_block_fraction`, held where a face lies on one of `held_sides`. A set that cuts nothing is
+    refused naming it."""
+    key = "rock_mass"
+    try:
+        if section.box is not None:
+            shape = _box(section.box, section.name)
+        else:
+            shape = extrude(np.array(section.profile.polygon_m), *section.profile.y_m, name=section.name)
+        sets = [(s.dip_deg, s.dip_direction_deg, s.spacing_m, s.origin_m) for s in section.joint_sets]
+        jointed = cut_by_joint_sets(shape, sets, min_block_fraction=section.min_block_fraction)
+    except ValueError as error:
+        raise ConfigKeyError(key, str(error)) from None
+    for name, cuts in zip(section.set_names, jointed.cuts_per_set, strict=True):
+        if cuts == 0:
+            raise ConfigKeyError(
+                f"{key}.joint_sets", f"set {name} cuts nothing: no plane of it crosses the shape"
+            )
+    bounds = np.array([shape.vertices.min(axis=0), shape.vertices.max(axis=0)])
+    pieces = []
+    for k, block in enumerate(jointed.blocks, start=1):
+        held = any(_on_side(block, bounds, side, shape.size) for side in section.held_sides)
+        pieces.append(Piece(f"{section.name}.{k}", section.name, section.material, block, key, held))
+    return pieces
+
+
+def _pair_joint(scene: Scene3D, groups: list[str]) -> tuple[list[str], np.ndarray, list[int]]:
+    """The groups' names in order of first appearance, the (g, g) table of joint types and each block's
+    group index; an unknown joint type or group names its rule."""
+    names = list(scene.joint_types)
+    known = list(dict.fromkeys(groups))
+
+    def type_of(joint: str, key: str) -> int:
+        if joint not in names:
+            raise ConfigKeyError(key, f"no joint type '{joint}' (joint_types: {', '.join(names)})")
+        return names.index(joint)
+
+    table = np.full((len(known), len(known)), type_of(scene.contacts.default, "contacts.default"))
+    for i, rule in enumerate(scene.contacts.rules):
+        key = f"contacts.rules.{i}"
+        j = type_of(rule.joint_type, f"{key}.joint_type")
+        for group in rule.groups:
+            if group not in known:
+                raise ConfigKeyError(
+                    f"{key}.groups", f"no block has group '{group}' (groups: {', '.join(known)})"
+                )
+        a, b = known.index(rule.groups[0]), known.index(rule.groups[1])
+        table[a, b] = table[b, a] = j
+    return known, table, [known.index(g) for g in groups]
+
+
+def _named(message: str, names: Sequence[str]) -> str:
+    """The engine's message ("block 3: ...", "blocks 3 and 5: ...") with the blocks' names for their
+    indices."""
+    head, colon, tail = message.partition(":")
+    head = re.sub(r"(blocks?|and) (\d+)\b", lambda m: f"{m.group(1)} '{names[int(m.group(2))]}'", head)
+    return head + colon + tail
+
+
+def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel:
+    """The model of the scene's blocks and rock mass, and the `extra` pieces (the module docstring)."""
+    pieces = [*block_pieces(scene), *(rock_mass_pieces(scene.rock_mass) if scene.rock_mass else []), *extra]
+    names = [p.name for p in pieces]
+    for k, p in enumerate(pieces):
+        if p.name in names[:k]:
+            raise ConfigKeyError(p.key, f"two blocks are called '{p.name}': names must differ")
+        if p.material not in scene.materials:
+            known = ", ".join(scene.materials)
+            raise ConfigKeyError(f"{p.key}.material", f"no material '{p.material}' (materials: {known})")
+    group_names, table, group_index = _pair_joint(scene, [p.group for p in pieces])
+    laws = [joint_law(section) for section in scene.joint_types.values()]
+    density = [scene.materials[p.material].density_kg_m3 for p in pieces]
+    held = [i for i, p in enumerate(pieces) if p.held or p.velocity is not None]
+    try:
+        model = build_model([p.shape for p in pieces], density, laws, held=held, gravity=_gravity(scene),
+                            refine=scene.contacts.refine, group=group_index, pair_joint=table)  # fmt: skip
+    except ValueError as error:
+        raise ConfigKeyError("blocks", _named(str(error), names)) from None
+    for i, p in enumerate(pieces):
+        if p.velocity is not None:
+            model.blocks[i, VPX : VPX + 3] = p.velocity
+    return SceneModel(
+        model, names, [p.group for p in pieces], list(scene.joint_types), model.blocks.copy(), group_names
+    )
+
+
+def _gravity(scene: Scene3D) -> np.ndarray:
+    """Gravity [m/s2] with the pseudo-static seismic acceleration k_h |g| towards its azimuth added."""
+    g = np.array(scene.gravity_m_s2, dtype=float)
+    seismic = scene.seismic
+    if seismic is None:
+        return g
+    a = math.radians(seismic.towards_deg)
+    return g + seismic.horizontal_coefficient * float(np.linalg.norm(g)) * np.array(
+        [math.sin(a), math.cos(a), 0.0]
+    )
+
+
+def judged_blocks(scene: Scene3D, built: SceneModel) -> list[int] | None:
+    """The blocks whose motion decides a `bbmc fos` trial (`fos.judge`): those named in `blocks` (block
+    or group names; default every block free to move) at least `min_size_fraction` x the median size
+    of the blocks free to move; None for every free block. An unknown name is refused naming it."""
+    judge = scene.fos.judge
+    if not judge.blocks and judge.min_size_fraction == 0:
+        return None
+    free = np.flatnonzero(np.any(built.model.dof == FREE, axis=1))
+    chosen = set(free.tolist()) if not judge.blocks else set()
+    for k, name in enumerate(judge.blocks):
+        found = [i for i, (n, g) in enumerate(zip(built.names, built.groups, strict=True)) if name in (n, g)]
+        if not found:
+            raise ConfigKeyError(f"fos.judge.blocks.{k}", f"no block or group '{name}'")
+        chosen.update(found)
+    smallest = judge.min_size_fraction * float(np.median(built.model.size[free])) if len(free) else 0.0
+    return sorted(i for i in chosen if built.model.size[i] >= smallest)
