@@ -126,7 +126,8 @@ def forces(model: Model, dt: float) -> None:
     model.blocks[:, FX : FX + 3] = 0.0
     model.blocks[:, TX : TX + 3] = 0.0
     contact_forces(model.blocks, _geometry(model), model.contacts, model.contact_values, model.subs,
-                   model.loads, model.law_codes, model.law_params, model.refine, float(dt), False)  # fmt: skip
+                   model.loads, model.law_codes, model.law_params, model.refine, float(dt),
+                   False)  # fmt: skip
     add_contact_loads(model.blocks, model.contacts, model.subs, model.loads, model.block_start,
                       model.block_pairs, False)  # fmt: skip
 
