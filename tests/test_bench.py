@@ -287,6 +287,7 @@ def test_wedge_section_writes_its_costs_with_the_issues_marks(tmp_path):
     assert table.loc["samples", "met"] != table.loc["samples", "met"]  # no mark, no verdict (NaN)
 
 
+@pytest.mark.slow
 def test_engine3d_section_writes_the_3d_rates_beside_the_2d_ones_with_the_issues_marks(tmp_path):
     """Tiny sizes (a 27-block stack, 2 steps, one process each): every row, the marks, the bitwise
     check on 1 and 2 threads, and no module of the 3D engine in a 2D run."""
