@@ -8,12 +8,11 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from bbmc.dem3d.contact_forces import contact_forces
 from bbmc.dem3d.joint_laws import BartonBandis, MohrCoulomb, joint_tables, strength
 from bbmc.dem3d.layout import FX, QW, TX, VX, X, Z
 from bbmc.dem3d.model import build_model
 from bbmc.dem3d.quaternion import rotation_matrix
-from bbmc.dem3d.solver import _geometry, run, search, time_step
+from bbmc.dem3d.solver import forces, run, search, time_step
 from bbmc.geometry.polyhedra import box, moved
 
 G = 9.81
@@ -100,9 +99,7 @@ def test_a_face_rocking_stiffness_is_exact_at_any_refinement():
             base = box([-20, -20, -10], [20, 20, 0])
             model = build_model([base, block], RHO, [MohrCoulomb(KN, KN / 2, 0.5)], held=[0], refine=refine)
             search(model)
-            model.blocks[:, FX : TX + 3] = 0.0
-            contact_forces(model.blocks, _geometry(model), model.contacts, model.contact_values, model.subs,
-                           model.law_codes, model.law_params, model.refine, 0.0)  # fmt: skip
+            forces(model, 0.0)
             force, torque = model.blocks[1, FX : FX + 3], model.blocks[1, TX : TX + 3]
             about_centre = torque + np.cross(model.blocks[1, X : Z + 1], force)
             second = 6 * 10**3 / 12 * axis[1] ** 2 + 10 * 6**3 / 12 * axis[0] ** 2

@@ -40,7 +40,12 @@ torques about the centroids are r x f. A share that opens loses its shear. Where
 (a face contact tilting onto an edge, or back) the new sub-contacts start from the pair's last shear
 force shared uniformly over the new closed area, so the shear force carries over.
 
-Forces are added to the blocks' FX.. and TX.. columns in pair order on one thread.
+Threads: each pair is updated on its own (`contact_forces`, a numba prange over pairs when `threaded`),
+writing only its own rows: of `contacts`, `values`, `subs`, and of `loads`, each share's force and couple
+on B. Each block then adds its pairs' shares in pair order and, within a pair, share order
+(`add_contact_loads`, over the block's pairs listed at each search by `block_pairs`): the same additions
+in the same order as one thread adding each share to both blocks as it goes, so the result is the same
+to the bit for any number of threads (never an atomic or racy add).
 """
 
 import math
@@ -86,6 +91,10 @@ SLIPPED = 12  # 1 once it has slipped
 PATH = 13  # shear path while closed, sum of |d u_s| [m]
 TWIST = 14  # torque on B about n of the share's shear springs twisted about it [N m]
 SUB_COLUMNS = 15
+
+# --- loads: float64 (n_subs, LOAD_COLUMNS), the force and couple a share puts on B this step ---------
+LFX, LMX = 0, 3  # force on B [N] at the share's centroid (CX..), couple on B [N m]; zero: none; world
+LOAD_COLUMNS = 6
 
 
 @numba.njit(cache=True, inline="always")
@@ -137,10 +146,12 @@ def _release(contacts, values, subs, c):
 
 
 @numba.njit(cache=True)
-def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, refine, dt):
-    """Pair c's sub-contacts updated and their forces added to its blocks (module docstring)."""
+def _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_params, refine, dt):
+    """Pair c's sub-contacts updated and their forces and couples on B left in `loads` (module
+    docstring); only the pair's own rows are written."""
     vertices, vertex_start, face_vertices, face_start, block_face_start, face_normal, size = geometry
     a, b = contacts[c, BLOCK_A], contacts[c, BLOCK_B]
+    loads[contacts[c, FIRST_SUB] : contacts[c, FIRST_SUB] + contacts[c, SUB_COUNT], :] = 0.0
     scale = min(size[a], size[b])
     sep, axis, i, j, nx, ny, nz = separating_axis(
         vertices, vertex_start, face_vertices, face_start, block_face_start, face_normal, a, b, scale, 0.0,
@@ -247,8 +258,8 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
         subs[s, TAUX], subs[s, TAUY], subs[s, TAUZ], subs[s, SN] = tx, ty, tz, sn
         mx, my, mz = mx + subs[s, TWIST] * nx, my + subs[s, TWIST] * ny, mz + subs[s, TWIST] * nz
         fx, fy, fz = a_k * (sn * nx - tx), a_k * (sn * ny - ty), a_k * (sn * nz - tz)
-        _add(blocks, b, 1.0, fx, fy, fz, gx, gy, gz, mx, my, mz)
-        _add(blocks, a, -1.0, fx, fy, fz, gx, gy, gz, mx, my, mz)
+        loads[s, LFX], loads[s, LFX + 1], loads[s, LFX + 2] = fx, fy, fz
+        loads[s, LMX], loads[s, LMX + 1], loads[s, LMX + 2] = mx, my, mz
         fsx, fsy, fsz, fn = fsx - a_k * tx, fsy - a_k * ty, fsz - a_k * tz, fn + a_k * sn
     for s in range(first + m, first + count):
         subs[s, :] = 0.0
@@ -256,10 +267,58 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
     values[c, AREA_CLOSED] = closed_area
 
 
-@numba.njit(cache=True)
-def contact_forces(blocks, geometry, contacts, values, subs, law_codes, law_params, refine, dt):
-    """Every pair's sub-contacts updated and their forces and torques added to the blocks' FX.. and
-    TX.. columns (which the caller has zeroed), for a step of dt [s]. `geometry` is the tuple (vertices,
-    vertex_start, face_vertices, face_start, block_face_start, face_normal, size) in the world."""
+@numba.njit(cache=True, parallel=True)
+def contact_forces(
+    blocks, geometry, contacts, values, subs, loads, law_codes, law_params, refine, dt, threaded
+):
+    """Every pair's sub-contacts updated for a step of dt [s], each share's force and couple on B left in
+    `loads` (rows as `subs`'), for `add_contact_loads`. `geometry` is the tuple (vertices, vertex_start,
+    face_vertices, face_start, block_face_start, face_normal, size) in the world. `threaded`: the pairs
+    on every thread of numba's pool, else in order on this one; the result is the same to the bit."""
+    if threaded:
+        for c in numba.prange(contacts.shape[0]):
+            _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_params, refine, dt)
+        return
     for c in range(contacts.shape[0]):
-        _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, refine, dt)
+        _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_params, refine, dt)
+
+
+@numba.njit(cache=True, inline="always")
+def _add_pairs_of(blocks, i, contacts, subs, loads, block_start, block_pairs):
+    """Add to block i, in pair order, its pairs' shares in share order: +f on B, -f on A (`_add`)."""
+    for k in range(block_start[i], block_start[i + 1]):
+        entry = block_pairs[k]
+        c, sign = (entry, 1.0) if entry >= 0 else (-1 - entry, -1.0)
+        if contacts[c, KEY] == NONE:
+            continue
+        first = contacts[c, FIRST_SUB]
+        for s in range(first, first + contacts[c, SUB_COUNT]):
+            _add(blocks, i, sign, loads[s, LFX], loads[s, LFX + 1], loads[s, LFX + 2], subs[s, CX],
+                 subs[s, CY], subs[s, CZ], loads[s, LMX], loads[s, LMX + 1], loads[s, LMX + 2])  # fmt: skip
+
+
+@numba.njit(cache=True, parallel=True)
+def add_contact_loads(blocks, contacts, subs, loads, block_start, block_pairs, threaded):
+    """Every block's shares (`loads`, from `contact_forces`) added to its FX.. and TX.. columns, each
+    block's in pair order (`block_pairs`, CSR from `block_start`: `block_pairs`); `threaded`: the blocks
+    on every thread of numba's pool. A share adds nothing where its row is zero (x + 0 is x, and a sum
+    from +0 is never -0), so a block's sum is the one-thread, share-by-share sum, to the bit."""
+    if threaded:
+        for i in numba.prange(blocks.shape[0]):
+            _add_pairs_of(blocks, i, contacts, subs, loads, block_start, block_pairs)
+        return
+    for i in range(blocks.shape[0]):
+        _add_pairs_of(blocks, i, contacts, subs, loads, block_start, block_pairs)
+
+
+def block_pairs(contacts: np.ndarray, n_blocks: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each block's pairs in pair order, as CSR: (start, entries), int64 (n_blocks + 1,) and
+    (2 n_pairs,); block i's are entries[start[i]:start[i + 1]], c >= 0 for pair c with the block as B,
+    -1 - c with it as A (the order `add_contact_loads` adds them in; the 2D engine's
+    `block_contacts_of`, which dem3d may not import)."""
+    index = np.arange(len(contacts), dtype=np.int64)
+    block = np.concatenate([contacts[:, BLOCK_A], contacts[:, BLOCK_B]])
+    order = np.lexsort((np.concatenate([index, index]), block))
+    start = np.zeros(n_blocks + 1, dtype=np.int64)
+    np.cumsum(np.bincount(block, minlength=n_blocks), out=start[1:])
+    return start, np.concatenate([-1 - index, index])[order]

@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from bbmc.dem3d.broad_phase import candidate_pairs
-from bbmc.dem3d.contact_forces import CONTACT_COLUMNS, CONTACT_VALUES, SUB_COLUMNS
+from bbmc.dem3d.contact_forces import CONTACT_COLUMNS, CONTACT_VALUES, LOAD_COLUMNS, SUB_COLUMNS
 from bbmc.dem3d.contact_geometry import separating_axis
 from bbmc.dem3d.joint_laws import JointLaw, joint_tables
 from bbmc.dem3d.layout import DOFS, PRESCRIBED, QW, X
@@ -41,7 +41,9 @@ class Model:
     (set when the pair is found, `bbmc.dem3d.solver.search`);
     `refine`: the face triangulation's refinement; `margin` [m]: the broad phase's. The contact state:
     `contacts` (int64, CONTACT_COLUMNS), `contact_values` (float64, CONTACT_VALUES), `subs` (float64,
-    SUB_COLUMNS) as `bbmc.dem3d.contact_forces` lays them out; `vertices_at_search`; `step`."""
+    SUB_COLUMNS) as `bbmc.dem3d.contact_forces` lays them out; `vertices_at_search`; `step`. Scratch of
+    the step, rebuilt at each search: `loads` (float64, LOAD_COLUMNS) and each block's pairs,
+    `block_start` and `block_pairs` (`bbmc.dem3d.contact_forces.block_pairs`)."""
 
     blocks: np.ndarray
     dof: np.ndarray
@@ -66,6 +68,9 @@ class Model:
     subs: np.ndarray = field(default_factory=lambda: np.zeros((0, SUB_COLUMNS)))
     vertices_at_search: np.ndarray | None = None
     step: int = 0
+    loads: np.ndarray = field(default_factory=lambda: np.zeros((0, LOAD_COLUMNS)))
+    block_start: np.ndarray = field(default_factory=lambda: np.zeros(1, dtype=np.int64))
+    block_pairs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
 
 def build_model(

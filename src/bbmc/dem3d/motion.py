@@ -221,15 +221,33 @@ def move_block(blocks, dof, gravity, damping, dt, step, i, q, momentum, moments,
     return shift + blocks[i, RADIUS] * turn
 
 
-@numba.njit(cache=True)
-def move_blocks(blocks, dof, gravity, damping, dt, step):
-    """`move_block` for every block; returns the largest movement since the last contact search [m]."""
+CHUNK = 64  # blocks per task of a threaded `move_blocks`, each with its own scratch arrays
+
+
+@numba.njit(cache=True, inline="always")
+def _move_range(blocks, dof, gravity, damping, dt, step, first, last):
+    """`move_block` for blocks first..last-1; returns their largest movement since the last search [m]."""
     q, momentum, moments, system = np.empty(4), np.empty(3), np.empty(3), np.empty((3, 4))
     largest = 0.0
-    for i in range(blocks.shape[0]):
+    for i in range(first, last):
         largest = max(largest, move_block(blocks, dof, gravity, damping, dt, step, i, q, momentum, moments,
                                           system))  # fmt: skip
     return largest
+
+
+@numba.njit(cache=True, parallel=True)
+def move_blocks(blocks, dof, gravity, damping, dt, step, threaded=False):
+    """`move_block` for every block; returns the largest movement since the last contact search [m].
+    `threaded`: chunks of `CHUNK` blocks on every thread of numba's pool (each block's update reads
+    and writes its own row only: the same to the bit for any number of threads)."""
+    n = blocks.shape[0]
+    if not threaded:
+        return _move_range(blocks, dof, gravity, damping, dt, step, 0, n)
+    chunks = (n + CHUNK - 1) // CHUNK
+    largest = np.zeros(chunks)
+    for k in numba.prange(chunks):
+        largest[k] = _move_range(blocks, dof, gravity, damping, dt, step, k * CHUNK, min(n, (k + 1) * CHUNK))
+    return largest.max() if chunks else 0.0
 
 
 def step_motion(

@@ -27,9 +27,12 @@ from bbmc.dem3d.contact_forces import (
     FIRST_SUB,
     JOINT_TYPE,
     KEY,
+    LOAD_COLUMNS,
     NONE,
     SUB_COLUMNS,
     SUB_COUNT,
+    add_contact_loads,
+    block_pairs,
     contact_forces,
 )
 from bbmc.dem3d.contact_geometry import contact_patch, face_overlap, separating_axis
@@ -89,38 +92,63 @@ def search(model: Model) -> None:
         contacts[c, FIRST_SUB], contacts[c, SUB_COUNT] = first, count
         first += count
     model.contacts, model.contact_values, model.subs = contacts, values, subs
+    model.loads = np.zeros((len(subs), LOAD_COLUMNS))
+    model.block_start, model.block_pairs = block_pairs(contacts, len(model.blocks))
     model.vertices_at_search = model.vertices.copy()
 
 
 @numba.njit(cache=True)
-def _cycle(blocks, dof, gravity, damping, dt, step, steps, geometry, placing, at_search, margin, contacts,
-           values, subs, law_codes, law_params, refine):  # fmt: skip
-    """Up to `steps` steps from `step`; returns how many ran before a search fell due."""
+def _cycle(blocks, dof, gravity, damping, dt, step, steps, geometry, placing, at_search, margin, pairs,
+           forces, law_codes, law_params, refine, threaded):  # fmt: skip
+    """Up to `steps` steps from `step`; returns how many ran before a search fell due. `pairs` is
+    (contacts, values, subs, loads), `forces` (block_start, block_pairs); `threaded`: contact forces
+    and motion on every thread of numba's pool (the same to the bit)."""
     vertices, face_normal = geometry[0], geometry[5]
     body_vertices, vertex_start, body_normals, block_face_start = placing
+    contacts, values, subs, loads = pairs
     for k in range(steps):
         place(blocks, body_vertices, vertex_start, body_normals, block_face_start, vertices, face_normal)
         if needs_search(vertices, at_search, margin):
             return k
         blocks[:, FX : FX + 3] = 0.0
         blocks[:, TX : TX + 3] = 0.0
-        contact_forces(blocks, geometry, contacts, values, subs, law_codes, law_params, refine, dt)
-        move_blocks(blocks, dof, gravity, damping, dt, step + k)
+        contact_forces(blocks, geometry, contacts, values, subs, loads, law_codes, law_params, refine, dt,
+                       threaded)  # fmt: skip
+        add_contact_loads(blocks, contacts, subs, loads, forces[0], forces[1], threaded)
+        move_blocks(blocks, dof, gravity, damping, dt, step + k, threaded)
     place(blocks, body_vertices, vertex_start, body_normals, block_face_start, vertices, face_normal)
     return steps
 
 
-def run(model: Model, steps: int, dt: float, damping: float = 0.0) -> None:
-    """`steps` steps of dt [s] with Cundall's local damping `damping` [1], continuing the model."""
+def forces(model: Model, dt: float) -> None:
+    """The contact forces and torques on every block [N, N m] for a step of dt [s] from the model as it
+    stands (searched), in its FX.. and TX.. columns, which start from zero."""
+    model.blocks[:, FX : FX + 3] = 0.0
+    model.blocks[:, TX : TX + 3] = 0.0
+    contact_forces(model.blocks, _geometry(model), model.contacts, model.contact_values, model.subs,
+                   model.loads, model.law_codes, model.law_params, model.refine, float(dt),
+                   False)  # fmt: skip
+    add_contact_loads(model.blocks, model.contacts, model.subs, model.loads, model.block_start,
+                      model.block_pairs, False)  # fmt: skip
+
+
+def run(model: Model, steps: int, dt: float, damping: float = 0.0, threads: int = 1) -> None:
+    """`steps` steps of dt [s] with Cundall's local damping `damping` [1], continuing the model, on
+    `threads` threads (at most numba's pool; above 1 the pairs and blocks are shared among them, with
+    the same result to the bit as on one)."""
     placing = (model.body_vertices, model.vertex_start, model.body_normals, model.block_face_start)
+    threaded = threads > 1
+    if threaded:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     done = 0
     while done < steps:
         if model.vertices_at_search is None:
             search(model)
+        pairs = (model.contacts, model.contact_values, model.subs, model.loads)
         ran = _cycle(model.blocks, model.dof, model.gravity, float(damping), float(dt), model.step,
-                     steps - done, _geometry(model), placing, model.vertices_at_search, model.margin,
-                     model.contacts, model.contact_values, model.subs, model.law_codes, model.law_params,
-                     model.refine)  # fmt: skip
+                     steps - done, _geometry(model), placing, model.vertices_at_search, model.margin, pairs,
+                     (model.block_start, model.block_pairs), model.law_codes, model.law_params,
+                     model.refine, threaded)  # fmt: skip
         done += ran
         model.step += ran
         if done < steps:
