@@ -128,8 +128,7 @@ def run_scene(
             "blocks",
             "no two blocks within the search margin at the start: no contact to take a time step from",
         )
-    if solver.threads is not None:
-        numba.set_num_threads(min(solver.threads, numba.config.NUMBA_NUM_THREADS))
+    threads = solver.threads or numba.config.NUMBA_NUM_THREADS
     reference = monitors.reference_force(model)
     moving = _free_vertices(model)
     origin = model.vertices[moving].copy()
@@ -150,7 +149,7 @@ def run_scene(
 
     record()
     while model.step - first < solver.steps:
-        run(model, min(every, solver.steps - (model.step - first)), dt, solver.damping)
+        run(model, min(every, solver.steps - (model.step - first)), dt, solver.damping, threads)
         record()
         done = model.step - first
         progress(Progress(done, solver.steps, "steps", f"step {done} of {solver.steps}"))

@@ -50,13 +50,14 @@ class _Run:
     reference: float
     judged: np.ndarray  # bool per block
     vertices: np.ndarray  # bool per vertex
+    threads: int = 1
 
     @property
     def step(self) -> int:
         return self.model.step
 
     def advance(self, steps: int) -> None:
-        run(self.model, steps, self.dt, self.damping)
+        run(self.model, steps, self.dt, self.damping, self.threads)
 
     def positions(self) -> np.ndarray:
         return self.model.vertices[self.vertices].copy()
@@ -72,7 +73,8 @@ class _Run:
 class StrengthReduction3DResult:
     """The search's outcome: `factor_of_safety` [1], its `bracket` [stable F, unstable F] and whether it
     was `bracketed`; the equilibrium's steps and seconds, the time step `dt` [s], the failure
-    displacement [m], every trial (`bbmc.fos.result.Trial`), and the equilibrium's model."""
+    displacement [m], every trial (`bbmc.fos.result.Trial`), the equilibrium's model and the model at
+    the end of the lowest unstable trial (`failed`, None if every trial held): its mechanism."""
 
     factor_of_safety: float
     bracket: tuple[float, float]
@@ -83,6 +85,7 @@ class StrengthReduction3DResult:
     failure_displacement_m: float
     trials: list[Trial]
     equilibrium: Model
+    failed: Model | None
 
 
 def _judged(model: Model, judged: Sequence[int] | None) -> np.ndarray:
@@ -108,11 +111,13 @@ def factor_of_safety_3d(
     equilibrium_steps: int = 100_000,
     judged: Sequence[int] | None = None,
     progress: ProgressCallback = ignore,
+    threads: int = 1,
 ) -> StrengthReduction3DResult:
     """The factor of safety of the 3D `model` (module docstring) with the search `settings` (default
     `StrengthReduction()`), local damping `damping` [1], the time step `safety` x critical, at most
     `equilibrium_steps` steps to the unreduced equilibrium, the verdicts read on the blocks `judged`
-    (indices; default every block free to move); `progress` gets each trial's verdict. The model is
+    (indices; default every block free to move); `progress` gets each trial's verdict; `threads`: the
+    engine's (`bbmc.dem3d.solver.run`: the same answer to the bit on any count). The model is
     left as it was given. ValueError: the ``phi_b_jrc`` reduction, a judged index out of range, no
     equilibrium with the strengths as given."""
     settings = StrengthReduction() if settings is None else settings
@@ -126,7 +131,7 @@ def factor_of_safety_3d(
     equilibrium = copy.deepcopy(model)
     dt = time_step(equilibrium, safety, damping)
     started = time.perf_counter()
-    unreduced = _Run(equilibrium, dt, damping, reference, chosen, vertices)
+    unreduced = _Run(equilibrium, dt, damping, reference, chosen, vertices, threads)
     verdict, reason = search.settle(unreduced, settings, equilibrium_steps, failure)
     if verdict != STABLE:
         raise ValueError(
@@ -137,11 +142,12 @@ def factor_of_safety_3d(
     window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * n_r))
     origin = equilibrium.vertices[vertices].copy()
     trials: list[Trial] = []
+    failed: dict[float, Model] = {}
 
     def attempt(factor: float) -> bool:
         trial = copy.deepcopy(equilibrium)
         trial.law_params[:, P_STRENGTH_DIVISOR] = factor
-        running = _Run(trial, dt, damping, reference, chosen, vertices)
+        running = _Run(trial, dt, damping, reference, chosen, vertices, threads)
         clock, first = time.perf_counter(), trial.step
         verdict, reason = search.settle(running, settings, budget, failure, window, origin)
         trials.append(
@@ -155,6 +161,9 @@ def factor_of_safety_3d(
                 seconds=time.perf_counter() - clock,
             )
         )
+        if verdict != STABLE and factor < min(failed, default=math.inf):
+            failed.clear()
+            failed[factor] = trial
         holds = "holds" if verdict == STABLE else "fails"
         progress(Progress(len(trials), None, "trials", f"trial {len(trials)} at F = {factor:.4g}: {holds}"))
         return verdict == STABLE
@@ -163,5 +172,14 @@ def factor_of_safety_3d(
         attempt, settings.largest_factor, settings.tolerance, False
     )
     return StrengthReduction3DResult(
-        fs, bracket, bracketed, n_r, eq_seconds, dt, failure, trials, equilibrium
+        fs,
+        bracket,
+        bracketed,
+        n_r,
+        eq_seconds,
+        dt,
+        failure,
+        trials,
+        equilibrium,
+        next(iter(failed.values()), None),
     )

@@ -124,8 +124,8 @@ def mechanism_figure(
         Patch(facecolor=HELD_COLOUR, edgecolor="k", label="held"),
         Line2D([], [], color=ARROW_COLOUR, label="way it moved (arrow length to its own scale)"),
     ]
-    fig.legend(handles=handles, loc="upper left", fontsize=8, frameon=False)
+    fig.legend(handles=handles, loc="lower left", fontsize=8, frameon=False)
     most = int(np.argmax(size_mm))
     label = f"block {most}" if names is None else names[most]
-    fig.suptitle(f"{title}: {label} moved most, {size_mm[most]:,.1f} mm (true scale)", fontsize=11)
+    fig.suptitle(f"{title}\n{label} moved most, {size_mm[most]:,.1f} mm (true scale)", fontsize=11)
     return fig

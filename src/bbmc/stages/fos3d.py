@@ -3,7 +3,8 @@
 
 Writes into <results>/fos/<scene name>/: fos.csv (every trial: F, verdict, why, steps, largest
 displacement, unbalanced-force ratio, wall time), summary.csv (`quantity,value,unit`, with the row
-factor_of_safety) and provenance.json.
+factor_of_safety), bracketing.png (the trials' F in order), mechanism.png (the blocks at the end of the
+lowest unstable trial against the equilibrium, `bbmc.outputs.figures3d`) and provenance.json.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numba
 import pandas as pd
 
 from bbmc.config import ConfigKeyError
@@ -18,6 +20,8 @@ from bbmc.dem3d.scene_model import SceneModel, judged_blocks
 from bbmc.fos.result import factor_of_safety_text, trials_table
 from bbmc.fos.strength_reduction3d import StrengthReduction3DResult, factor_of_safety_3d
 from bbmc.io import StageResult
+from bbmc.outputs.figures import trials_figure
+from bbmc.outputs.figures3d import mechanism_figure
 from bbmc.progress import ProgressCallback, ignore
 from bbmc.scene.schema3d import Scene3D
 from bbmc.slope.scene3d import build_scene3d
@@ -73,6 +77,7 @@ def run(
             equilibrium_steps=solver.steps,
             judged=judged,
             progress=progress,
+            threads=solver.threads or numba.config.NUMBA_NUM_THREADS,
         )
     except ValueError as error:
         raise ConfigKeyError("solver.steps", str(error)) from None
@@ -80,4 +85,13 @@ def run(
         "fos": trials_table(result.trials),
         "summary": summary_table(result, scene, time.perf_counter() - started),
     }
-    return StageResult(tables=tables), result
+    text = factor_of_safety_text(result.factor_of_safety, result.bracket, result.bracketed)
+    title = "bracketing and bisection; trials start from the unreduced equilibrium"
+    figures = {"bracketing": trials_figure(result.trials, result.factor_of_safety, text, result.bracketed,
+                                           title, scene.figure_dpi)}  # fmt: skip
+    if result.failed is not None:
+        figures["mechanism"] = mechanism_figure(
+            result.failed, result.equilibrium.blocks, scene.figure_dpi, built.names,
+            title=f"the lowest unstable trial, F = {result.bracket[1]:.4g}: displacement from equilibrium",
+        )  # fmt: skip
+    return StageResult(tables=tables, figures=figures), result
