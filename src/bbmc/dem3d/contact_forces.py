@@ -35,7 +35,10 @@ the torque -K_s J_P w_n dt about n (J_P the closed part's polar moment), kept in
 step, and dropped when the share slips (its stress is then the limit along the slip): without it a
 share resisted twisting only by its centroid's lever, and a block on a few shares (a strip of a base
 that rocks open) drifted round its normal. The path |d u_s| is
-summed while closed. The force on B is A (sigma_n n - tau) plus the couple, on A its opposite; their
+summed while closed. Joint water: the pressure p at the closed part's centroid (the joint type's given
+one and the phreatic plane's, `bbmc.dem3d.joint_laws.water_pressure`) adds p A along n, pushing the
+blocks apart; the springs carry the effective stress sigma_n' (`bbmc.dem3d.water`), which the strength
+sees. The force on B is A ((sigma_n' + p) n - tau) plus the couple, on A its opposite; their
 torques about the centroids are r x f. A share that opens loses its shear. Where a pair's KEY changes
 (a face contact tilting onto an edge, or back) the new sub-contacts start from the pair's last shear
 force shared uniformly over the new closed area, so the shear force carries over.
@@ -56,7 +59,7 @@ from bbmc.dem3d.contact_geometry import (
     face_shares,
     separating_axis,
 )
-from bbmc.dem3d.joint_laws import P_KN, P_KS, strength
+from bbmc.dem3d.joint_laws import P_KN, P_KS, strength, water_pressure
 from bbmc.dem3d.layout import FX, TX, VX, WX, X
 
 # --- contacts: int64 (n_pairs, CONTACT_COLUMNS) -----------------------------------------------------
@@ -71,7 +74,7 @@ POINT, NONE = -1, -2
 
 # --- contact_values: float64 (n_pairs, CONTACT_VALUES) ----------------------------------------------
 FSX, FSY, FSZ = 0, 1, 2  # shear force on B of the last step [N], world
-FN = 3  # normal force on B [N]
+FN = 3  # effective normal force on B [N] (the springs'; the water's p A not counted)
 AREA_CLOSED = 4  # closed area [m²]
 CONTACT_VALUES = 5
 
@@ -85,7 +88,8 @@ POLAR = 11  # the closed part's polar second moment about its centroid [m⁴]
 SLIPPED = 12  # 1 once it has slipped
 PATH = 13  # shear path while closed, sum of |d u_s| [m]
 TWIST = 14  # torque on B about n of the share's shear springs twisted about it [N m]
-SUB_COLUMNS = 15
+PRESSURE = 15  # joint water pressure at the closed part's centroid [Pa]
+SUB_COLUMNS = 16
 
 
 @numba.njit(cache=True, inline="always")
@@ -203,7 +207,7 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
         subs[s, AREA], subs[s, POLAR] = area[k], polar[k]
         subs[s, CX], subs[s, CY], subs[s, CZ] = centroid[k, 0], centroid[k, 1], centroid[k, 2]
         if area[k] <= 0.0:
-            for col in (TAUX, TAUY, TAUZ, USX, USY, USZ, SN, TWIST):
+            for col in (TAUX, TAUY, TAUZ, USX, USY, USZ, SN, TWIST, PRESSURE):
                 subs[s, col] = 0.0
             continue
         gx, gy, gz = centroid[k, 0], centroid[k, 1], centroid[k, 2]
@@ -245,8 +249,11 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
                 my -= a_k * (oz * tx - ox * tz)
                 mz -= a_k * (ox * ty - oy * tx)
         subs[s, TAUX], subs[s, TAUY], subs[s, TAUZ], subs[s, SN] = tx, ty, tz, sn
+        pw = water_pressure(law_params, joint, gx, gy, gz)
+        subs[s, PRESSURE] = pw
         mx, my, mz = mx + subs[s, TWIST] * nx, my + subs[s, TWIST] * ny, mz + subs[s, TWIST] * nz
-        fx, fy, fz = a_k * (sn * nx - tx), a_k * (sn * ny - ty), a_k * (sn * nz - tz)
+        total = sn + pw  # the total normal stress: effective and water
+        fx, fy, fz = a_k * (total * nx - tx), a_k * (total * ny - ty), a_k * (total * nz - tz)
         _add(blocks, b, 1.0, fx, fy, fz, gx, gy, gz, mx, my, mz)
         _add(blocks, a, -1.0, fx, fy, fz, gx, gy, gz, mx, my, mz)
         fsx, fsy, fsz, fn = fsx - a_k * tx, fsy - a_k * ty, fsz - a_k * tz, fn + a_k * sn

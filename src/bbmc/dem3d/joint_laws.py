@@ -10,8 +10,12 @@ PARAMETERS), SI: stiffnesses in Pa/m, stresses in Pa, angles in rad. Laws so far
   Barton-Bandis peak envelope at the sub-contact's own sigma_n (`bbmc.laws.strength`, paper eqs 9-15):
   tan(phi) = d tau_p / d sigma_n, c = tau_p - sigma_n tan(phi); ``after_slip = zero`` drops c.
 
+Both laws take a given uniform joint water `pressure` p [Pa] (default 0), and the model's phreatic plane
+(`bbmc.dem3d.water.WaterTable`, the same in every row) adds gamma_w max(z_table(x, y) - z, 0) to it at
+each sub-contact (`water_pressure`); how the engine applies it: `bbmc.dem3d.water`.
+
 A new law is a dataclass here, a code and one branch in `strength`. Strength reduction divides the shear
-strength c + sigma_n tan(phi) by P_STRENGTH_DIVISOR (1 otherwise), as the 2D engine does.
+strength c + sigma_n tan(phi) by P_STRENGTH_DIVISOR (1 otherwise), as the 2D engine does; not the water.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from bbmc.dem3d.water import WaterTable
 from bbmc.laws.strength import equivalent_cohesion, equivalent_friction_angle, exact_tangent_coefficient
 
 # --- law_codes: int64 (n_types, LAW_COLUMNS) --------------------------------------------------------
@@ -36,25 +41,29 @@ P_KN, P_KS = 0, 1  # normal and shear stiffness [Pa/m]
 P_COH, P_PHI = 2, 3  # Mohr-Coulomb cohesion [Pa] and friction angle [rad]
 P_JRC, P_JCS, P_PHI_B, P_PHI_MAX, P_K_TANGENT = 4, 5, 6, 7, 8  # Barton-Bandis: [1], [Pa], [rad], [rad], [1]
 P_STRENGTH_DIVISOR = 9  # strength reduction's factor F [1]
-PARAMETERS = 10
+P_PRESSURE = 10  # the joint type's given uniform water pressure [Pa]
+P_GAMMA_W, P_TABLE_Z0, P_TABLE_A, P_TABLE_B = 11, 12, 13, 14  # the phreatic plane (`water.WaterTable`)
+PARAMETERS = 15
 
 
 @dataclass(frozen=True)
 class MohrCoulomb:
-    """Constant stiffnesses kn, ks [Pa/m], friction angle [rad], cohesion [Pa], after_slip keep|zero."""
+    """Constant stiffnesses kn, ks [Pa/m], friction angle [rad], cohesion [Pa], after_slip keep|zero, a
+    given uniform water pressure [Pa]."""
 
     kn: float
     ks: float
     friction: float
     cohesion: float = 0.0
     after_slip: str = "keep"
+    pressure: float = 0.0
 
 
 @dataclass(frozen=True)
 class BartonBandis:
     """Constant stiffnesses kn, ks [Pa/m]; JRC [1], JCS [Pa], basic (or residual) friction angle phi_b
     and the cap phi_max [rad]; the tangent's k: None for the exact pi JRC / (180 ln 10), or the paper's
-    0.016; after_slip keep|zero."""
+    0.016; after_slip keep|zero; a given uniform water pressure [Pa]."""
 
     kn: float
     ks: float
@@ -64,6 +73,7 @@ class BartonBandis:
     phi_max: float = math.radians(70.0)
     tangent_coefficient: float | None = None
     after_slip: str = "keep"
+    pressure: float = 0.0
 
 
 JointLaw = MohrCoulomb | BartonBandis
@@ -74,8 +84,10 @@ def _row(law: JointLaw, name: str) -> tuple[list[int], np.ndarray]:
         raise ValueError(f"{name}: after_slip must be keep or zero, got {law.after_slip!r}")
     if not (law.kn > 0.0 and law.ks > 0.0):
         raise ValueError(f"{name}: kn and ks must be > 0 Pa/m, got {law.kn}, {law.ks}")
+    if not (law.pressure >= 0.0 and math.isfinite(law.pressure)):
+        raise ValueError(f"{name}: pressure must be >= 0 Pa, got {law.pressure}")
     p = np.zeros(PARAMETERS)
-    p[P_KN], p[P_KS], p[P_STRENGTH_DIVISOR] = law.kn, law.ks, 1.0
+    p[P_KN], p[P_KS], p[P_STRENGTH_DIVISOR], p[P_PRESSURE] = law.kn, law.ks, 1.0, law.pressure
     after = AFTER_SLIP_ZERO if law.after_slip == "zero" else AFTER_SLIP_KEEP
     if isinstance(law, MohrCoulomb):
         p[P_COH], p[P_PHI] = law.cohesion, law.friction
@@ -86,11 +98,24 @@ def _row(law: JointLaw, name: str) -> tuple[list[int], np.ndarray]:
     return [STRENGTH_BARTON_BANDIS, after], p
 
 
-def joint_tables(laws: Sequence[JointLaw]) -> tuple[np.ndarray, np.ndarray]:
+def joint_tables(laws: Sequence[JointLaw], water: WaterTable | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The joint types' tables (law_codes int64 (n, LAW_COLUMNS), law_params float64 (n, PARAMETERS))
-    from the laws in order; a bad law is refused in one line naming it (joint type i)."""
+    from the laws in order, each row with the phreatic plane `water` (none: dry); a bad law is refused
+    in one line naming it (joint type i), a bad table naming `water`."""
     rows = [_row(law, f"joint type {i}") for i, law in enumerate(laws)]
-    return np.array([r[0] for r in rows], dtype=np.int64), np.array([r[1] for r in rows])
+    params = np.array([r[1] for r in rows]).reshape(len(rows), PARAMETERS)
+    if water is not None:
+        params[:, P_GAMMA_W : P_TABLE_B + 1] = water.coefficients()
+    return np.array([r[0] for r in rows], dtype=np.int64).reshape(len(rows), LAW_COLUMNS), params
+
+
+@numba.njit(cache=True, inline="always")
+def water_pressure(law_params, j, x, y, z):
+    """Joint water pressure [Pa] of joint type j at the point (x, y, z) [m]: its given uniform pressure
+    plus gamma_w max(z0 + a x + b y - z, 0) of the phreatic plane (`bbmc.dem3d.water`)."""
+    p = law_params[j]
+    head = p[P_TABLE_Z0] + p[P_TABLE_A] * x + p[P_TABLE_B] * y - z
+    return p[P_PRESSURE] + p[P_GAMMA_W] * max(head, 0.0)
 
 
 @numba.njit(cache=True)

@@ -24,6 +24,7 @@ from bbmc.dem3d.joint_laws import JointLaw, joint_tables
 from bbmc.dem3d.layout import DOFS, PRESCRIBED, QW, X
 from bbmc.dem3d.motion import new_blocks
 from bbmc.dem3d.quaternion import rotate
+from bbmc.dem3d.water import WaterTable
 from bbmc.geometry.polyhedra import Polyhedron
 from bbmc.geometry.polyhedron_mass import mass_properties
 
@@ -78,14 +79,18 @@ def build_model(
     refine: int = 1,
     group: Sequence[int] | None = None,
     pair_joint: np.ndarray | None = None,
+    water: WaterTable | None = None,
 ) -> Model:
     """The model of these blocks, of `density` [kg/m³] (one for all or one each), on the joint types
-    `laws`, blocks `held` fixed in all six degrees of freedom, `gravity` [m/s²], the face triangulation
-    refined `refine` times (each triangle split in four). A contact between a block of `group` i and one
-    of group j takes joint type `pair_joint[i, j]` (default: every block in group 0, every contact of
-    joint type 0). Refused in one line naming the block or key: a density <= 0, a held index out of
-    range, a bad law, a group or joint type out of range, an asymmetric `pair_joint`, two free blocks
-    (or a free and a held one) overlapping at the start (`_refuse_overlaps`)."""
+    `laws`, blocks `held` fixed in all six degrees of freedom, `gravity` [m/s²] (with a seismic
+    coefficient: `bbmc.dem3d.seismic.seismic_gravity`), the face triangulation refined `refine` times
+    (each triangle split in four). A contact between a block of `group` i and one of group j takes joint
+    type `pair_joint[i, j]` (default: every block in group 0, every contact of joint type 0). `water`: a
+    phreatic plane whose pressure loads every contact below it (`bbmc.dem3d.water`; None: dry but for
+    the laws' given pressures). Refused in one line naming the block or key: a density <= 0, a held
+    index out of range, a bad law, a group or joint type out of range, an asymmetric `pair_joint`, a bad
+    water table, two free blocks (or a free and a held one) overlapping at the start
+    (`_refuse_overlaps`)."""
     n = len(polyhedra)
     groups = np.zeros(n, dtype=np.int64) if group is None else np.asarray(group, dtype=np.int64)
     pairs = np.zeros((1, 1), dtype=np.int64) if pair_joint is None else np.asarray(pair_joint, dtype=np.int64)
@@ -120,7 +125,7 @@ def build_model(
     loop_lengths = np.concatenate([np.diff(p.face_start) for p in polyhedra])
     face_start = np.concatenate([[0], np.cumsum(loop_lengths)])
     body_normals = np.vstack([p.normals @ m.principal_axes for p, m in zip(polyhedra, props, strict=True)])
-    law_codes, law_params = joint_tables(laws)
+    law_codes, law_params = joint_tables(laws, water)
     size = 2.0 * radii
     model = Model(
         blocks=blocks,
