@@ -217,7 +217,7 @@ def test_barton_bandis_strength_is_the_tangent_of_the_peak_envelope():
     law = BartonBandis(KN, KN / 2, jrc=8.0, jcs=50e6, phi_b=math.radians(30.0))
     codes, params = joint_tables([law])
     for sigma in (1e4, 2e5, 3e6):
-        c, tan_phi = strength(codes, params, 0, sigma, False)
+        c, tan_phi, _ = strength(codes, params, 0, sigma, False, 0.0)
         tau_p = laws.peak_shear_strength(sigma, 8.0, 50e6, math.radians(30.0), math.radians(70.0))
         assert c + sigma * tan_phi == pytest.approx(float(tau_p), rel=1e-12)
 

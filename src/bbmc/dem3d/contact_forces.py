@@ -35,7 +35,10 @@ the torque -K_s J_P w_n dt about n (J_P the closed part's polar moment), kept in
 step, and dropped when the share slips (its stress is then the limit along the slip): without it a
 share resisted twisting only by its centroid's lever, and a block on a few shares (a strip of a base
 that rocks open) drifted round its normal. The path |d u_s| is
-summed while closed. Joint water: the pressure p at the closed part's centroid (the joint type's given
+summed while closed; the strength is read at the path before this step's increment (as the 2D law
+update reads it). The mobilized law's dilation (`bbmc.dem3d.joint_laws`) adds DILATION to the share's
+closure, sigma_n = K_n (u + DILATION) over its geometrically closed part, and grows by tan(d_mob) x the
+change of |u_s| in the step. Joint water: the pressure p at the closed part's centroid (the joint type's given
 one and the phreatic plane's, `bbmc.dem3d.joint_laws.water_pressure`) adds p A along n, pushing the
 blocks apart; the springs carry the effective stress sigma_n' (`bbmc.dem3d.water`), which the strength
 sees. The force on B is A ((sigma_n' + p) n - tau) plus the couple, on A its opposite; their
@@ -89,7 +92,8 @@ SLIPPED = 12  # 1 once it has slipped
 PATH = 13  # shear path while closed, sum of |d u_s| [m]
 TWIST = 14  # torque on B about n of the share's shear springs twisted about it [N m]
 PRESSURE = 15  # joint water pressure at the closed part's centroid [Pa]
-SUB_COLUMNS = 16
+DILATION = 16  # the mobilized law's opening by dilation so far [m], added to the closure
+SUB_COLUMNS = 17
 
 
 @numba.njit(cache=True, inline="always")
@@ -105,6 +109,12 @@ def _onto_plane(subs, s, first, nx, ny, nz):
     projected = math.sqrt(x * x + y * y + z * z)
     scale = length / projected if projected > 0.0 else 0.0
     subs[s, first], subs[s, first + 1], subs[s, first + 2] = x * scale, y * scale, z * scale
+
+
+@numba.njit(cache=True, inline="always")
+def _length(subs, s, first):
+    """|subs[s, first:first + 3]|."""
+    return math.sqrt(subs[s, first] ** 2 + subs[s, first + 1] ** 2 + subs[s, first + 2] ** 2)
 
 
 @numba.njit(cache=True, inline="always")
@@ -207,11 +217,11 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
         subs[s, AREA], subs[s, POLAR] = area[k], polar[k]
         subs[s, CX], subs[s, CY], subs[s, CZ] = centroid[k, 0], centroid[k, 1], centroid[k, 2]
         if area[k] <= 0.0:
-            for col in (TAUX, TAUY, TAUZ, USX, USY, USZ, SN, TWIST, PRESSURE):
+            for col in (TAUX, TAUY, TAUZ, USX, USY, USZ, SN, TWIST, PRESSURE, DILATION):
                 subs[s, col] = 0.0
             continue
         gx, gy, gz = centroid[k, 0], centroid[k, 1], centroid[k, 2]
-        sn = kn * closure[k]
+        sn = kn * (closure[k] + subs[s, DILATION])
         _onto_plane(subs, s, TAUX, nx, ny, nz)
         _onto_plane(subs, s, USX, nx, ny, nz)
         vb = _velocity(blocks, b, gx, gy, gz)
@@ -219,12 +229,17 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
         rx, ry, rz = vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]
         d = rx * nx + ry * ny + rz * nz
         dx, dy, dz = (rx - d * nx) * dt, (ry - d * ny) * dt, (rz - d * nz) * dt
+        path, away = subs[s, PATH], -_length(subs, s, USX)
         subs[s, USX] += dx
         subs[s, USY] += dy
         subs[s, USZ] += dz
         subs[s, PATH] += math.sqrt(dx * dx + dy * dy + dz * dz)
+        away += _length(subs, s, USX)
         tx, ty, tz = subs[s, TAUX] + ks * dx, subs[s, TAUY] + ks * dy, subs[s, TAUZ] + ks * dz
-        cohesion, tan_phi = strength(law_codes, law_params, joint, sn, subs[s, SLIPPED] != 0.0)
+        cohesion, tan_phi, tan_dilation = strength(
+            law_codes, law_params, joint, sn, subs[s, SLIPPED] != 0.0, path
+        )
+        subs[s, DILATION] = max(subs[s, DILATION] + tan_dilation * away, 0.0)
         limit = max(cohesion + sn * tan_phi, 0.0)
         trial = math.sqrt(tx * tx + ty * ty + tz * tz)
         a_k = area[k]
@@ -240,8 +255,8 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
             tx, ty, tz = tx * f, ty * f, tz * f
             subs[s, SLIPPED] = 1.0
             subs[s, TWIST] = 0.0
-            if closure[k] > 0.0 and limit > 0.0:  # friction follows the pressure: at its centre
-                w = sn * tan_phi / (limit * kn * a_k * closure[k])
+            if sn > 0.0 and limit > 0.0:  # friction follows the pressure: at its centre
+                w = tan_phi / (limit * a_k)
                 ox = w * (ny * mz - nz * my)
                 oy = w * (nz * mx - nx * mz)
                 oz = w * (nx * my - ny * mx)
