@@ -9,18 +9,23 @@ import math
 
 import numpy as np
 import pytest
+from pydantic import TypeAdapter
 from scipy.spatial.transform import Rotation
 
 from bbmc.dem import layout as L
 from bbmc.dem.contact_forces import _normal_share, _shear_share
 from bbmc.dem.joint_state import update_joint_laws
+from bbmc.dem.joint_types import _joint_law_row
+from bbmc.dem3d import joint_laws as D3
 from bbmc.dem3d.contact_forces import AREA, DILATION, FIRST_SUB, SLIPPED, SN, TAUX, USX
-from bbmc.dem3d.joint_laws import BartonBandis, MobilizedBartonBandis, MohrCoulomb
+from bbmc.dem3d.joint_laws import BartonBandis, MobilizedBartonBandis, MohrCoulomb, joint_tables
 from bbmc.dem3d.layout import VPX
 from bbmc.dem3d.model import build_model
+from bbmc.dem3d.scene_laws import law_from_scene
 from bbmc.dem3d.solver import run
 from bbmc.geometry.polyhedra import box, moved
 from bbmc.laws import exact_tangent_coefficient
+from bbmc.scene.schema import JointLaw as SceneJointLaw
 
 KN, KS = 1e9, 5e8  # Pa/m
 DT, STEPS, SPEED = 0.01, 240, 1e-3  # s, 1, m/s: 2.4 mm of shear
@@ -129,3 +134,63 @@ def test_shear_in_one_direction_reproduces_the_2d_law(law):
     scale = np.abs(h2[:, 0]).max()
     assert np.abs(h3[:, 2] - h2[:, 0]).max() < 1e-12 * scale
     assert np.abs(h3[:, 4] - h2[:, 2]).max() <= 1e-12 * max(np.abs(h2[:, 2]).max(), 1e-3)
+
+
+CONSTANT = {"law": "constant", "kn_MPa_per_mm": 10.0, "ks_MPa_per_mm": 5.0, "friction_deg": 35.0,
+            "cohesion_MPa": 0.1, "after_slip": "zero"}  # fmt: skip
+PEAK = {"law": "barton_bandis", "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": 10.0},
+        "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": 5.0},
+        "strength": {"jrc": 12.0, "jcs_MPa": 80.0, "phi_b_deg": 30.0, "phi_r_deg": 26.0,
+                     "lab_length_m": 0.1, "field_length_m": 2.0}}  # fmt: skip
+MOBILIZED = {"law": "barton_bandis_mobilized", "normal_stiffness": {"law": "constant", "kn_MPa_per_mm": 10.0},
+             "shear_stiffness": {"law": "constant", "ks_MPa_per_mm": 5.0}, "jrc0": 12.0, "jcs0_MPa": 80.0,
+             "phi_b_deg": 30.0, "rebound_ratio": 0.7, "field_length_m": 2.0}  # fmt: skip
+
+
+@pytest.mark.parametrize("keys", [CONSTANT, PEAK, MOBILIZED], ids=["constant", "barton_bandis", "mobilized"])
+def test_a_scene_law_gives_the_3d_engine_the_2d_engines_parameters(keys):
+    """A scene's joint law as a 3D joint type (`law_from_scene`): its stiffnesses, c, phi, JRC, JCS (at
+    the field length), phi_b or phi_r, phi_max, the tangent's k, delta_peak, M and the stress floor are
+    the 2D engine's for the same law (`bbmc.dem.joint_types`), to the bit, and so is its strength code."""
+    law = TypeAdapter(SceneJointLaw).validate_python(keys)
+    codes_3d, params_3d = joint_tables([law_from_scene("j", law)])
+    codes_2d, params_2d = _joint_law_row(law)
+    pairs = [(D3.P_KN, L.P_KN), (D3.P_KS, L.P_KS), (D3.P_COH, L.P_COH), (D3.P_PHI, L.P_PHI),
+             (D3.P_JRC, L.P_JRC), (D3.P_JCS, L.P_JCS), (D3.P_PHI_B, L.P_PHI_B), (D3.P_PHI_MAX, L.P_PHI_MAX),
+             (D3.P_PEAK_DISPLACEMENT, L.P_PEAK_DISPLACEMENT), (D3.P_DAMAGE, L.P_DAMAGE)]  # fmt: skip
+    if keys is not CONSTANT:
+        pairs.append(
+            (D3.P_STRESS_FLOOR, L.P_STRESS_FLOOR) if keys is MOBILIZED else (D3.P_K_TANGENT, L.P_K_TANGENT)
+        )
+    for i3, i2 in pairs:
+        assert params_3d[0, i3] == params_2d[i2]
+    assert codes_3d[0, D3.STRENGTH_LAW] == codes_2d[L.STRENGTH_LAW]
+    assert (codes_3d[0, D3.AFTER_SLIP] == D3.AFTER_SLIP_ZERO) == (codes_2d[L.AFTER_SLIP] == L.AFTER_SLIP_ZERO)
+
+
+@pytest.mark.parametrize(
+    ("edit", "key"),
+    [
+        ({"tensile_strength_MPa": 1.0}, "joint_laws.j.tensile_strength_MPa"),
+        ({"breaks_into": "other"}, "joint_laws.j.breaks_into"),
+        (
+            {"normal_stiffness": {"law": "eq8", "q_per_mm": 7.0}},
+            "joint_laws.j.normal_stiffness: the law 'eq8'",
+        ),
+        (
+            {"shear_stiffness": {"law": "simplified", "kj_MPa_per_mm": 1.0, "nj": 0.5}},
+            "joint_laws.j.shear_stiffness",
+        ),
+    ],
+)
+def test_a_scene_law_the_3d_engine_lacks_is_refused_in_one_line(edit, key):
+    """What the 3D engine lacks (bonds, bridges, stress-dependent stiffness): one line naming the key."""
+    base = CONSTANT if set(edit) & {"tensile_strength_MPa", "breaks_into"} else PEAK
+    law = TypeAdapter(SceneJointLaw).validate_python({**base, **edit})
+    with pytest.raises(ValueError, match=key):
+        law_from_scene("j", law)
+    bandis = TypeAdapter(SceneJointLaw).validate_python(
+        {**MOBILIZED, "normal_stiffness": {"law": "bandis", "aperture_mm": 0.2}}
+    )
+    with pytest.raises(ValueError, match="normal_stiffness: the law 'bandis'"):
+        law_from_scene("j", bandis)
