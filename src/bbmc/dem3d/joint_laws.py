@@ -21,7 +21,7 @@ PARAMETERS), SI: stiffnesses in Pa/m, stresses in Pa, angles in rad. Laws so far
 
 Stress-dependent stiffnesses (the paper's K_n of eqs 5-8, Bandis's closure hyperbola, the shear
 stiffness laws) are not in the 3D engine yet: its normal stress is integrated exactly over each share
-as a linear spring bed, which a K_n(sigma_n) is not (`law_from_scene` refuses them in one line).
+as a linear spring bed, which a K_n(sigma_n) is not (`bbmc.dem3d.scene_laws` refuses them in one line).
 
 Every law takes a given uniform joint water `pressure` p [Pa] (default 0), and the model's phreatic plane
 (`bbmc.dem3d.water.WaterTable`, the same in every row) adds gamma_w max(z_table(x, y) - z, 0) to it at
