@@ -38,10 +38,10 @@ that rocks open) drifted round its normal. The path |d u_s| is
 summed while closed; the strength is read at the path before this step's increment (as the 2D law
 update reads it). The mobilized law's dilation (`bbmc.dem3d.joint_laws`) adds DILATION to the share's
 closure, sigma_n = K_n (u + DILATION) over its geometrically closed part, and grows by tan(d_mob) x the
-change of |u_s| in the step. Joint water: the pressure p at the closed part's centroid (the joint type's given
-one and the phreatic plane's, `bbmc.dem3d.joint_laws.water_pressure`) adds p A along n, pushing the
-blocks apart; the springs carry the effective stress sigma_n' (`bbmc.dem3d.water`), which the strength
-sees. The force on B is A ((sigma_n' + p) n - tau) plus the couple, on A its opposite; their
+change of |u_s| in the step. Joint water: the joint type's given uniform pressure p acts on the closed
+part, p A along n, pushing the blocks apart; the springs carry the effective stress sigma_n', which the
+strength sees (the phreatic table loads the blocks' faces instead: `bbmc.dem3d.water`). The force on B
+is A ((sigma_n' + p) n - tau) plus the couple, on A its opposite; their
 torques about the centroids are r x f. A share that opens loses its shear. Where a pair's KEY changes
 (a face contact tilting onto an edge, or back) the new sub-contacts start from the pair's last shear
 force shared uniformly over the new closed area, so the shear force carries over.
@@ -62,7 +62,7 @@ from bbmc.dem3d.contact_geometry import (
     face_shares,
     separating_axis,
 )
-from bbmc.dem3d.joint_laws import P_KN, P_KS, strength, water_pressure
+from bbmc.dem3d.joint_laws import P_KN, P_KS, P_PRESSURE, strength
 from bbmc.dem3d.layout import FX, TX, VX, WX, X
 
 # --- contacts: int64 (n_pairs, CONTACT_COLUMNS) -----------------------------------------------------
@@ -91,7 +91,7 @@ POLAR = 11  # the closed part's polar second moment about its centroid [m⁴]
 SLIPPED = 12  # 1 once it has slipped
 PATH = 13  # shear path while closed, sum of |d u_s| [m]
 TWIST = 14  # torque on B about n of the share's shear springs twisted about it [N m]
-PRESSURE = 15  # joint water pressure at the closed part's centroid [Pa]
+PRESSURE = 15  # the joint type's given water pressure on the closed part [Pa]
 DILATION = 16  # the mobilized law's opening by dilation so far [m], added to the closure
 SUB_COLUMNS = 17
 
@@ -264,7 +264,7 @@ def _pair(c, blocks, geometry, contacts, values, subs, law_codes, law_params, re
                 my -= a_k * (oz * tx - ox * tz)
                 mz -= a_k * (ox * ty - oy * tx)
         subs[s, TAUX], subs[s, TAUY], subs[s, TAUZ], subs[s, SN] = tx, ty, tz, sn
-        pw = water_pressure(law_params, joint, gx, gy, gz)
+        pw = law_params[joint, P_PRESSURE]
         subs[s, PRESSURE] = pw
         mx, my, mz = mx + subs[s, TWIST] * nx, my + subs[s, TWIST] * ny, mz + subs[s, TWIST] * nz
         total = sn + pw  # the total normal stress: effective and water

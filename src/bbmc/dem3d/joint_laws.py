@@ -23,9 +23,9 @@ Stress-dependent stiffnesses (the paper's K_n of eqs 5-8, Bandis's closure hyper
 stiffness laws) are not in the 3D engine yet: its normal stress is integrated exactly over each share
 as a linear spring bed, which a K_n(sigma_n) is not (`bbmc.dem3d.scene_laws` refuses them in one line).
 
-Every law takes a given uniform joint water `pressure` p [Pa] (default 0), and the model's phreatic plane
-(`bbmc.dem3d.water.WaterTable`, the same in every row) adds gamma_w max(z_table(x, y) - z, 0) to it at
-each sub-contact (`water_pressure`); how the engine applies it: `bbmc.dem3d.water`.
+Every law takes a given uniform joint water `pressure` p [Pa] (default 0) on its contacts' closed
+parts; every row also holds the model's phreatic plane (`bbmc.dem3d.water.WaterTable`, the same in each;
+its loads on the blocks' faces: `bbmc.dem3d.water.add_water_loads`).
 
 A new law is a dataclass here, a code and one branch in `strength`. Strength reduction divides the shear
 strength c + sigma_n tan(phi) by P_STRENGTH_DIVISOR (1 otherwise), as the 2D engine does; not the water.
@@ -36,13 +36,16 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
 
-from bbmc.dem3d.water import WaterTable
 from bbmc.laws.mobilized import damage_coefficient, mobilized_dilation_angle, mobilized_friction_angle
 from bbmc.laws.strength import equivalent_cohesion, equivalent_friction_angle, exact_tangent_coefficient
+
+if TYPE_CHECKING:
+    from bbmc.dem3d.water import WaterTable
 
 # --- law_codes: int64 (n_types, LAW_COLUMNS) --------------------------------------------------------
 STRENGTH_LAW, AFTER_SLIP = 0, 1
@@ -154,15 +157,6 @@ def joint_tables(laws: Sequence[JointLaw], water: WaterTable | None = None) -> t
     if water is not None:
         params[:, P_GAMMA_W : P_TABLE_B + 1] = water.coefficients()
     return np.array([r[0] for r in rows], dtype=np.int64).reshape(len(rows), LAW_COLUMNS), params
-
-
-@numba.njit(cache=True, inline="always")
-def water_pressure(law_params, j, x, y, z):
-    """Joint water pressure [Pa] of joint type j at the point (x, y, z) [m]: its given uniform pressure
-    plus gamma_w max(z0 + a x + b y - z, 0) of the phreatic plane (`bbmc.dem3d.water`)."""
-    p = law_params[j]
-    head = p[P_TABLE_Z0] + p[P_TABLE_A] * x + p[P_TABLE_B] * y - z
-    return p[P_PRESSURE] + p[P_GAMMA_W] * max(head, 0.0)
 
 
 @numba.njit(cache=True)

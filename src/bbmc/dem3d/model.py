@@ -86,11 +86,11 @@ def build_model(
     coefficient: `bbmc.dem3d.seismic.seismic_gravity`), the face triangulation refined `refine` times
     (each triangle split in four). A contact between a block of `group` i and one of group j takes joint
     type `pair_joint[i, j]` (default: every block in group 0, every contact of joint type 0). `water`: a
-    phreatic plane whose pressure loads every contact below it (`bbmc.dem3d.water`; None: dry but for
-    the laws' given pressures). Refused in one line naming the block or key: a density <= 0, a held
-    index out of range, a bad law, a group or joint type out of range, an asymmetric `pair_joint`, a bad
-    water table, two free blocks (or a free and a held one) overlapping at the start
-    (`_refuse_overlaps`)."""
+    phreatic plane whose pressure loads the free blocks' faces below it (`bbmc.dem3d.water`; None: dry
+    but for the laws' given pressures on their contacts). Refused in one line naming the block or key:
+    a density <= 0, a held index out of range, a bad law, a group or joint type out of range, an
+    asymmetric `pair_joint`, a bad water table, two free blocks (or a free and a held one) overlapping
+    at the start (`_refuse_overlaps`)."""
     n = len(polyhedra)
     groups = np.zeros(n, dtype=np.int64) if group is None else np.asarray(group, dtype=np.int64)
     pairs = np.zeros((1, 1), dtype=np.int64) if pair_joint is None else np.asarray(pair_joint, dtype=np.int64)

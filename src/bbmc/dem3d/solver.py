@@ -1,6 +1,7 @@
 """The 3D engine's cycle: place the blocks' vertices, search for pairs when some block has moved far
-enough (`bbmc.dem3d.broad_phase`), contact forces (`bbmc.dem3d.contact_forces`), motion
-(`bbmc.dem3d.motion`); and the time step from the contacts' stiffness (`bbmc.dem3d.time_step`).
+enough (`bbmc.dem3d.broad_phase`), contact forces (`bbmc.dem3d.contact_forces`), the phreatic table's
+loads on the faces (`bbmc.dem3d.water`), motion (`bbmc.dem3d.motion`); and the time step from the
+contacts' stiffness (`bbmc.dem3d.time_step`).
 
 The steps run in one numba loop (`_cycle`) until a search is due; the search itself (rare) is Python:
 the broad phase's pairs, each ordered so that its first block A is the one whose face should carry the
@@ -33,12 +34,13 @@ from bbmc.dem3d.contact_forces import (
     contact_forces,
 )
 from bbmc.dem3d.contact_geometry import contact_patch, face_overlap, separating_axis
-from bbmc.dem3d.joint_laws import P_KN, P_KS
+from bbmc.dem3d.joint_laws import P_GAMMA_W, P_KN, P_KS, P_TABLE_B
 from bbmc.dem3d.layout import FX, PRESCRIBED, TX, VPX, WPX, X
 from bbmc.dem3d.model import Model, place
 from bbmc.dem3d.motion import move_blocks
 from bbmc.dem3d.polygon_clip import polygon_moments
 from bbmc.dem3d.time_step import contact_stiffness, critical_time_step
+from bbmc.dem3d.water import add_water_loads
 
 
 def _geometry(model: Model) -> tuple:
@@ -105,6 +107,9 @@ def _cycle(blocks, dof, gravity, damping, dt, step, steps, geometry, placing, at
         blocks[:, FX : FX + 3] = 0.0
         blocks[:, TX : TX + 3] = 0.0
         contact_forces(blocks, geometry, contacts, values, subs, law_codes, law_params, refine, dt)
+        face_vertices, face_start, table = geometry[2], geometry[3], law_params[0, P_GAMMA_W : P_TABLE_B + 1]
+        add_water_loads(blocks, dof, vertices, vertex_start, face_vertices, face_start, block_face_start,
+                        face_normal, table)  # fmt: skip
         move_blocks(blocks, dof, gravity, damping, dt, step + k)
     place(blocks, body_vertices, vertex_start, body_normals, block_face_start, vertices, face_normal)
     return steps
