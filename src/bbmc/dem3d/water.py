@@ -34,7 +34,6 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
-from numpy.typing import ArrayLike
 
 from bbmc.dem3d.contact_geometry import _in_plane, face_frame
 from bbmc.dem3d.layout import DOFS, FX, PRESCRIBED, TX, X
@@ -62,12 +61,6 @@ class WaterTable:
         if not length > 0.0 or abs(n[2]) < 1e-9 * length:
             raise ValueError("water: the table's normal must have a vertical component (a plane z(x, y))")
         return float(self.unit_weight), float(n @ p / n[2]), float(-n[0] / n[2]), float(-n[1] / n[2])
-
-    def pressure(self, points: ArrayLike) -> np.ndarray:
-        """p = gamma_w max(z_table(x, y) - z, 0) [Pa] at points (..., 3) [m]."""
-        gamma, z0, a, b = self.coefficients()
-        x = np.asarray(points, dtype=float)
-        return gamma * np.maximum(z0 + a * x[..., 0] + b * x[..., 1] - x[..., 2], 0.0)
 
 
 @numba.njit(cache=True)
