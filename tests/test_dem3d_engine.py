@@ -28,16 +28,17 @@ def incline_frame(psi=PSI, alpha=DIP_DIRECTION):
     return np.column_stack([u, np.cross(n, u), n])
 
 
-def block_on_incline(b, h, phi_deg, refine=1):
+def block_on_incline(b, h, phi_deg, refine=1, uplift=0.0, **model_args):
     """A held base whose top is the incline, and a block b (down the dip) x 10 m (strike) x h on it, sunk
-    by its static closure so that it starts without a bounce. Returns (model, frame, the block's downhill
-    bottom edge's middle in the world)."""
+    by its static closure (under the effective stress: less the water's `uplift` [Pa]) so that it starts
+    without a bounce; `model_args` go to `build_model` (default: M-C of phi_deg, K_s = K_n / 2). Returns
+    (model, frame, the block's downhill bottom edge's middle in the world)."""
     frame = incline_frame()
-    sink = RHO * h * G * math.cos(PSI) / KN
+    sink = (RHO * h * G * math.cos(PSI) - uplift) / KN
     base = moved(box([-60, -20, -10], [30, 20, 0]), frame, np.zeros(3))
     block = moved(box([-b / 2, -5, -sink], [b / 2, 5, h - sink]), frame, np.zeros(3))
-    law = MohrCoulomb(KN, KN / 2, math.radians(phi_deg))
-    model = build_model([base, block], RHO, [law], held=[0], refine=refine)
+    model_args.setdefault("laws", [MohrCoulomb(KN, KN / 2, math.radians(phi_deg))])
+    model = build_model([base, block], RHO, held=[0], refine=refine, **model_args)
     return model, frame, frame @ np.array([b / 2, 0.0, -sink])
 
 
@@ -213,7 +214,7 @@ def test_barton_bandis_strength_is_the_tangent_of_the_peak_envelope():
     law = BartonBandis(KN, KN / 2, jrc=8.0, jcs=50e6, phi_b=math.radians(30.0))
     codes, params = joint_tables([law])
     for sigma in (1e4, 2e5, 3e6):
-        c, tan_phi = strength(codes, params, 0, sigma, False)
+        c, tan_phi, _ = strength(codes, params, 0, sigma, False, 0.0)
         tau_p = laws.peak_shear_strength(sigma, 8.0, 50e6, math.radians(30.0), math.radians(70.0))
         assert c + sigma * tan_phi == pytest.approx(float(tau_p), rel=1e-12)
 

@@ -35,7 +35,13 @@ the torque -K_s J_P w_n dt about n (J_P the closed part's polar moment), kept in
 step, and dropped when the share slips (its stress is then the limit along the slip): without it a
 share resisted twisting only by its centroid's lever, and a block on a few shares (a strip of a base
 that rocks open) drifted round its normal. The path |d u_s| is
-summed while closed. The force on B is A (sigma_n n - tau) plus the couple, on A its opposite; their
+summed while closed; the strength is read at the path before this step's increment (as the 2D law
+update reads it). The mobilized law's dilation (`bbmc.dem3d.joint_laws`) adds DILATION to the share's
+closure, sigma_n = K_n (u + DILATION) over its geometrically closed part, and grows by tan(d_mob) x the
+change of |u_s| in the step. Joint water: the joint type's given uniform pressure p acts on the closed
+part, p A along n, pushing the blocks apart; the springs carry the effective stress sigma_n', which the
+strength sees (the phreatic table loads the blocks' faces instead: `bbmc.dem3d.water`). The force on B
+is A ((sigma_n' + p) n - tau) plus the couple, on A its opposite; their
 torques about the centroids are r x f. A share that opens loses its shear. Where a pair's KEY changes
 (a face contact tilting onto an edge, or back) the new sub-contacts start from the pair's last shear
 force shared uniformly over the new closed area, so the shear force carries over.
@@ -61,7 +67,7 @@ from bbmc.dem3d.contact_geometry import (
     face_shares,
     separating_axis,
 )
-from bbmc.dem3d.joint_laws import P_KN, P_KS, strength
+from bbmc.dem3d.joint_laws import P_KN, P_KS, P_PRESSURE, strength
 from bbmc.dem3d.layout import FX, TX, VX, WX, X
 
 # --- contacts: int64 (n_pairs, CONTACT_COLUMNS) -----------------------------------------------------
@@ -76,7 +82,7 @@ POINT, NONE = -1, -2
 
 # --- contact_values: float64 (n_pairs, CONTACT_VALUES) ----------------------------------------------
 FSX, FSY, FSZ = 0, 1, 2  # shear force on B of the last step [N], world
-FN = 3  # normal force on B [N]
+FN = 3  # effective normal force on B [N] (the springs'; the water's p A not counted)
 AREA_CLOSED = 4  # closed area [m²]
 CONTACT_VALUES = 5
 
@@ -90,7 +96,9 @@ POLAR = 11  # the closed part's polar second moment about its centroid [m⁴]
 SLIPPED = 12  # 1 once it has slipped
 PATH = 13  # shear path while closed, sum of |d u_s| [m]
 TWIST = 14  # torque on B about n of the share's shear springs twisted about it [N m]
-SUB_COLUMNS = 15
+PRESSURE = 15  # the joint type's given water pressure on the closed part [Pa]
+DILATION = 16  # the mobilized law's opening by dilation so far [m], added to the closure
+SUB_COLUMNS = 17
 
 # --- loads: float64 (n_subs, LOAD_COLUMNS), the force and couple a share puts on B this step ---------
 LFX, LMX = 0, 3  # force on B [N] at the share's centroid (CX..), couple on B [N m]; zero: none; world
@@ -110,6 +118,12 @@ def _onto_plane(subs, s, first, nx, ny, nz):
     projected = math.sqrt(x * x + y * y + z * z)
     scale = length / projected if projected > 0.0 else 0.0
     subs[s, first], subs[s, first + 1], subs[s, first + 2] = x * scale, y * scale, z * scale
+
+
+@numba.njit(cache=True, inline="always")
+def _length(subs, s, first):
+    """|subs[s, first:first + 3]|."""
+    return math.sqrt(subs[s, first] ** 2 + subs[s, first + 1] ** 2 + subs[s, first + 2] ** 2)
 
 
 @numba.njit(cache=True, inline="always")
@@ -214,11 +228,11 @@ def _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_par
         subs[s, AREA], subs[s, POLAR] = area[k], polar[k]
         subs[s, CX], subs[s, CY], subs[s, CZ] = centroid[k, 0], centroid[k, 1], centroid[k, 2]
         if area[k] <= 0.0:
-            for col in (TAUX, TAUY, TAUZ, USX, USY, USZ, SN, TWIST):
+            for col in (TAUX, TAUY, TAUZ, USX, USY, USZ, SN, TWIST, PRESSURE, DILATION):
                 subs[s, col] = 0.0
             continue
         gx, gy, gz = centroid[k, 0], centroid[k, 1], centroid[k, 2]
-        sn = kn * closure[k]
+        sn = kn * (closure[k] + subs[s, DILATION])
         _onto_plane(subs, s, TAUX, nx, ny, nz)
         _onto_plane(subs, s, USX, nx, ny, nz)
         vb = _velocity(blocks, b, gx, gy, gz)
@@ -226,12 +240,17 @@ def _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_par
         rx, ry, rz = vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]
         d = rx * nx + ry * ny + rz * nz
         dx, dy, dz = (rx - d * nx) * dt, (ry - d * ny) * dt, (rz - d * nz) * dt
+        path, away = subs[s, PATH], -_length(subs, s, USX)
         subs[s, USX] += dx
         subs[s, USY] += dy
         subs[s, USZ] += dz
         subs[s, PATH] += math.sqrt(dx * dx + dy * dy + dz * dz)
+        away += _length(subs, s, USX)
         tx, ty, tz = subs[s, TAUX] + ks * dx, subs[s, TAUY] + ks * dy, subs[s, TAUZ] + ks * dz
-        cohesion, tan_phi = strength(law_codes, law_params, joint, sn, subs[s, SLIPPED] != 0.0)
+        cohesion, tan_phi, tan_dilation = strength(
+            law_codes, law_params, joint, sn, subs[s, SLIPPED] != 0.0, path
+        )
+        subs[s, DILATION] = max(subs[s, DILATION] + tan_dilation * away, 0.0)
         limit = max(cohesion + sn * tan_phi, 0.0)
         trial = math.sqrt(tx * tx + ty * ty + tz * tz)
         a_k = area[k]
@@ -247,8 +266,8 @@ def _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_par
             tx, ty, tz = tx * f, ty * f, tz * f
             subs[s, SLIPPED] = 1.0
             subs[s, TWIST] = 0.0
-            if closure[k] > 0.0 and limit > 0.0:  # friction follows the pressure: at its centre
-                w = sn * tan_phi / (limit * kn * a_k * closure[k])
+            if sn > 0.0 and limit > 0.0:  # friction follows the pressure: at its centre
+                w = tan_phi / (limit * a_k)
                 ox = w * (ny * mz - nz * my)
                 oy = w * (nz * mx - nx * mz)
                 oz = w * (nx * my - ny * mx)
@@ -256,8 +275,11 @@ def _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_par
                 my -= a_k * (oz * tx - ox * tz)
                 mz -= a_k * (ox * ty - oy * tx)
         subs[s, TAUX], subs[s, TAUY], subs[s, TAUZ], subs[s, SN] = tx, ty, tz, sn
+        pw = law_params[joint, P_PRESSURE]
+        subs[s, PRESSURE] = pw
         mx, my, mz = mx + subs[s, TWIST] * nx, my + subs[s, TWIST] * ny, mz + subs[s, TWIST] * nz
-        fx, fy, fz = a_k * (sn * nx - tx), a_k * (sn * ny - ty), a_k * (sn * nz - tz)
+        total = sn + pw  # the total normal stress: effective and water
+        fx, fy, fz = a_k * (total * nx - tx), a_k * (total * ny - ty), a_k * (total * nz - tz)
         loads[s, LFX], loads[s, LFX + 1], loads[s, LFX + 2] = fx, fy, fz
         loads[s, LMX], loads[s, LMX + 1], loads[s, LMX + 2] = mx, my, mz
         fsx, fsy, fsz, fn = fsx - a_k * tx, fsy - a_k * ty, fsz - a_k * tz, fn + a_k * sn

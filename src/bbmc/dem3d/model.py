@@ -24,6 +24,7 @@ from bbmc.dem3d.joint_laws import JointLaw, joint_tables
 from bbmc.dem3d.layout import DOFS, PRESCRIBED, QW, X
 from bbmc.dem3d.motion import new_blocks
 from bbmc.dem3d.quaternion import rotate
+from bbmc.dem3d.water import WaterTable
 from bbmc.geometry.polyhedra import Polyhedron
 from bbmc.geometry.polyhedron_mass import mass_properties
 
@@ -38,7 +39,8 @@ class Model:
     `size` (n,): each block's size, twice its RADIUS [m], the scale of contact tolerances; `law_codes`,
     `law_params` the joint types' tables (`bbmc.dem3d.joint_laws`); `group` (n,) int64 each block's group
     and `pair_joint` (g, g) int64, symmetric, the joint type of a contact between blocks of groups i and j
-    (set when the pair is found, `bbmc.dem3d.solver.search`);
+    (set when the pair is found, `bbmc.dem3d.solver.search`); `water_table` (4,) the phreatic plane's
+    (gamma_w [N/m³], z0 [m], a, b [1]) (`bbmc.dem3d.water.WaterTable.coefficients`; all 0: dry);
     `refine`: the face triangulation's refinement; `margin` [m]: the broad phase's. The contact state:
     `contacts` (int64, CONTACT_COLUMNS), `contact_values` (float64, CONTACT_VALUES), `subs` (float64,
     SUB_COLUMNS) as `bbmc.dem3d.contact_forces` lays them out; `vertices_at_search`; `step`. Scratch of
@@ -63,6 +65,7 @@ class Model:
     margin: float
     group: np.ndarray
     pair_joint: np.ndarray
+    water_table: np.ndarray
     contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_COLUMNS), dtype=np.int64))
     contact_values: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_VALUES)))
     subs: np.ndarray = field(default_factory=lambda: np.zeros((0, SUB_COLUMNS)))
@@ -83,14 +86,18 @@ def build_model(
     refine: int = 1,
     group: Sequence[int] | None = None,
     pair_joint: np.ndarray | None = None,
+    water: WaterTable | None = None,
 ) -> Model:
     """The model of these blocks, of `density` [kg/m³] (one for all or one each), on the joint types
-    `laws`, blocks `held` fixed in all six degrees of freedom, `gravity` [m/s²], the face triangulation
-    refined `refine` times (each triangle split in four). A contact between a block of `group` i and one
-    of group j takes joint type `pair_joint[i, j]` (default: every block in group 0, every contact of
-    joint type 0). Refused in one line naming the block or key: a density <= 0, a held index out of
-    range, a bad law, a group or joint type out of range, an asymmetric `pair_joint`, two free blocks
-    (or a free and a held one) overlapping at the start (`_refuse_overlaps`)."""
+    `laws`, blocks `held` fixed in all six degrees of freedom, `gravity` [m/s²] (with a seismic
+    coefficient: `bbmc.dem3d.seismic.seismic_gravity`), the face triangulation refined `refine` times
+    (each triangle split in four). A contact between a block of `group` i and one of group j takes joint
+    type `pair_joint[i, j]` (default: every block in group 0, every contact of joint type 0). `water`: a
+    phreatic plane whose pressure loads the free blocks' faces below it (`bbmc.dem3d.water`; None: dry
+    but for the laws' given pressures on their contacts). Refused in one line naming the block or key:
+    a density <= 0, a held index out of range, a bad law, a group or joint type out of range, an
+    asymmetric `pair_joint`, a bad water table, two free blocks (or a free and a held one) overlapping
+    at the start (`_refuse_overlaps`)."""
     n = len(polyhedra)
     groups = np.zeros(n, dtype=np.int64) if group is None else np.asarray(group, dtype=np.int64)
     pairs = np.zeros((1, 1), dtype=np.int64) if pair_joint is None else np.asarray(pair_joint, dtype=np.int64)
@@ -146,6 +153,7 @@ def build_model(
         margin=SEARCH_MARGIN * float(size.min()),
         group=groups,
         pair_joint=pairs,
+        water_table=np.array(water.coefficients() if water is not None else (0.0, 0.0, 0.0, 0.0)),
     )
     place(model.blocks, model.body_vertices, model.vertex_start, model.body_normals, model.block_face_start,
           model.vertices, model.face_normal)  # fmt: skip

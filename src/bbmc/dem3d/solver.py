@@ -1,6 +1,7 @@
 """The 3D engine's cycle: place the blocks' vertices, search for pairs when some block has moved far
-enough (`bbmc.dem3d.broad_phase`), contact forces (`bbmc.dem3d.contact_forces`), motion
-(`bbmc.dem3d.motion`); and the time step from the contacts' stiffness (`bbmc.dem3d.time_step`).
+enough (`bbmc.dem3d.broad_phase`), contact forces (`bbmc.dem3d.contact_forces`), the phreatic table's
+loads on the faces (`bbmc.dem3d.water`), motion (`bbmc.dem3d.motion`); and the time step from the
+contacts' stiffness (`bbmc.dem3d.time_step`).
 
 The steps run in one numba loop (`_cycle`) until a search is due; the search itself (rare) is Python:
 the broad phase's pairs, each ordered so that its first block A is the one whose face should carry the
@@ -42,6 +43,7 @@ from bbmc.dem3d.model import Model, place
 from bbmc.dem3d.motion import move_blocks
 from bbmc.dem3d.polygon_clip import polygon_moments
 from bbmc.dem3d.time_step import contact_stiffness, critical_time_step
+from bbmc.dem3d.water import add_water_loads
 
 
 def _geometry(model: Model) -> tuple:
@@ -99,10 +101,11 @@ def search(model: Model) -> None:
 
 @numba.njit(cache=True)
 def _cycle(blocks, dof, gravity, damping, dt, step, steps, geometry, placing, at_search, margin, pairs,
-           forces, law_codes, law_params, refine, threaded):  # fmt: skip
+           forces, law_codes, law_params, refine, water_table, threaded):  # fmt: skip
     """Up to `steps` steps from `step`; returns how many ran before a search fell due. `pairs` is
     (contacts, values, subs, loads), `forces` (block_start, block_pairs); `threaded`: contact forces
-    and motion on every thread of numba's pool (the same to the bit)."""
+    and motion on every thread of numba's pool (the same to the bit); `water_table` the phreatic plane's
+    (gamma_w, z0, a, b) (`bbmc.dem3d.water`; gamma_w 0: dry)."""
     vertices, face_normal = geometry[0], geometry[5]
     body_vertices, vertex_start, body_normals, block_face_start = placing
     contacts, values, subs, loads = pairs
@@ -115,6 +118,8 @@ def _cycle(blocks, dof, gravity, damping, dt, step, steps, geometry, placing, at
         contact_forces(blocks, geometry, contacts, values, subs, loads, law_codes, law_params, refine, dt,
                        threaded)  # fmt: skip
         add_contact_loads(blocks, contacts, subs, loads, forces[0], forces[1], threaded)
+        add_water_loads(blocks, dof, vertices, vertex_start, geometry[2], geometry[3], block_face_start,
+                        face_normal, water_table)  # fmt: skip
         move_blocks(blocks, dof, gravity, damping, dt, step + k, threaded)
     place(blocks, body_vertices, vertex_start, body_normals, block_face_start, vertices, face_normal)
     return steps
@@ -148,7 +153,7 @@ def run(model: Model, steps: int, dt: float, damping: float = 0.0, threads: int 
         ran = _cycle(model.blocks, model.dof, model.gravity, float(damping), float(dt), model.step,
                      steps - done, _geometry(model), placing, model.vertices_at_search, model.margin, pairs,
                      (model.block_start, model.block_pairs), model.law_codes, model.law_params,
-                     model.refine, threaded)  # fmt: skip
+                     model.refine, model.water_table, threaded)  # fmt: skip
         done += ran
         model.step += ran
         if done < steps:
