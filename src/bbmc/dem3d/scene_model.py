@@ -23,6 +23,7 @@ from bbmc.config import ConfigKeyError
 from bbmc.dem3d.joint_laws import BartonBandis, JointLaw, MohrCoulomb
 from bbmc.dem3d.layout import FREE, VPX
 from bbmc.dem3d.model import Model, build_model
+from bbmc.dem3d.seismic import seismic_gravity
 from bbmc.geometry.polyhedra import Polyhedron, box, extrude, from_vertices
 from bbmc.geometry.polyhedron_cutting import cut_by_joint_sets
 from bbmc.scene.schema3d import Block3D, Box, JointType, RockMass3D, Scene3D
@@ -217,14 +218,12 @@ def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel
 
 
 def _gravity(scene: Scene3D) -> np.ndarray:
-    """Gravity [m/s2] with the pseudo-static seismic acceleration k_h |g| towards its azimuth added."""
-    g = np.array(scene.gravity_m_s2, dtype=float)
-    seismic = scene.seismic
-    if seismic is None:
-        return g
-    a = math.radians(seismic.towards_deg)
-    return g + seismic.horizontal_coefficient * float(np.linalg.norm(g)) * np.array(
-        [math.sin(a), math.cos(a), 0.0]
+    """Gravity [m/s2] with the pseudo-static seismic acceleration k_h |g| towards its azimuth added
+    (`bbmc.dem3d.seismic`)."""
+    if scene.seismic is None:
+        return np.array(scene.gravity_m_s2, dtype=float)
+    return seismic_gravity(
+        scene.gravity_m_s2, scene.seismic.horizontal_coefficient, math.radians(scene.seismic.towards_deg)
     )
 
 
