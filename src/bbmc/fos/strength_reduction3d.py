@@ -12,9 +12,10 @@ failure displacement (default 5 % of the median size of the blocks free to move)
 the budget says so. The time step is fixed for the whole search: `safety` x the critical step of the
 scene as built (`bbmc.dem3d.solver.time_step`).
 
-Not yet as in 2D: a scene that finds no equilibrium with its own strengths is refused rather than
-started from its elastic equilibrium; support and the ``phi_b_jrc`` reduction do not exist in 3D yet
-(refused); judged blocks are given as indices. Units: m, s, N.
+A scene that finds no equilibrium with its own strengths (FS < 1) starts, as in 2D, from its
+equilibrium with every strength multiplied by 1e6 (the elastic start, `ELASTIC_DIVISOR`), and F = 1 is
+tried from there (`bbmc.fos.search.bracket_factor`). Not yet as in 2D: support and the ``phi_b_jrc``
+reduction do not exist in 3D (refused); judged blocks are given as indices. Units: m, s, N.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ from bbmc.fos.result import Trial
 from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.scene.fos_settings import StrengthReduction
 
+ELASTIC_DIVISOR = 1e-6  # strengths x 1e6: the start of a scene not in equilibrium unreduced (as 2D's)
 FAILURE_FRACTION = 0.05  # the default failure displacement, x the median size of the free blocks [1]
 
 
@@ -74,7 +76,8 @@ class StrengthReduction3DResult:
     """The search's outcome: `factor_of_safety` [1], its `bracket` [stable F, unstable F] and whether it
     was `bracketed`; the equilibrium's steps and seconds, the time step `dt` [s], the failure
     displacement [m], every trial (`bbmc.fos.result.Trial`), the equilibrium's model and the model at
-    the end of the lowest unstable trial (`failed`, None if every trial held): its mechanism."""
+    the end of the lowest unstable trial (`failed`, None if every trial held): its mechanism; `start`:
+    the trials' start, ``unreduced`` or ``elastic`` (module docstring)."""
 
     factor_of_safety: float
     bracket: tuple[float, float]
@@ -86,6 +89,7 @@ class StrengthReduction3DResult:
     trials: list[Trial]
     equilibrium: Model
     failed: Model | None
+    start: str
 
 
 def _judged(model: Model, judged: Sequence[int] | None) -> np.ndarray:
@@ -100,6 +104,21 @@ def _judged(model: Model, judged: Sequence[int] | None) -> np.ndarray:
     if not (chosen & free).any():
         raise ValueError("judged: it leaves no block free to move to judge")
     return chosen
+
+
+def _equilibrium(
+    model: Model, runner, settings: StrengthReduction, steps: int, failure: float
+) -> tuple[str, Model]:
+    """The trials' start (module docstring): ("unreduced" or "elastic", a copy of `model` settled with
+    its strengths divided by 1 or by ELASTIC_DIVISOR) within `steps`; `runner` makes the run of a
+    model. ValueError if neither settles."""
+    for start, divisor in (("unreduced", 1.0), ("elastic", ELASTIC_DIVISOR)):
+        equilibrium = copy.deepcopy(model)
+        equilibrium.law_params[:, P_STRENGTH_DIVISOR] = divisor
+        verdict, reason = search.settle(runner(equilibrium), settings, steps, failure)
+        if verdict == STABLE:
+            return start, equilibrium
+    raise ValueError(f"model: no equilibrium even elastic ({reason}, {equilibrium.step} steps)")
 
 
 def factor_of_safety_3d(
@@ -119,7 +138,7 @@ def factor_of_safety_3d(
     (indices; default every block free to move); `progress` gets each trial's verdict; `threads`: the
     engine's (`bbmc.dem3d.solver.run`: the same answer to the bit on any count). The model is
     left as it was given. ValueError: the ``phi_b_jrc`` reduction, a judged index out of range, no
-    equilibrium with the strengths as given."""
+    equilibrium even with the elastic start."""
     settings = StrengthReduction() if settings is None else settings
     if settings.barton_bandis_reduction != "envelope":
         raise ValueError("fos.barton_bandis_reduction: only 'envelope' exists in 3D so far")
@@ -128,15 +147,12 @@ def factor_of_safety_3d(
     free = monitors.free_blocks(model)
     failure = settings.failure_displacement_m or FAILURE_FRACTION * float(np.median(model.size[free]))
     reference = monitors.reference_force(model)
-    equilibrium = copy.deepcopy(model)
-    dt = time_step(equilibrium, safety, damping)
+    dt = time_step(model, safety, damping)
     started = time.perf_counter()
-    unreduced = _Run(equilibrium, dt, damping, reference, chosen, vertices, threads)
-    verdict, reason = search.settle(unreduced, settings, equilibrium_steps, failure)
-    if verdict != STABLE:
-        raise ValueError(
-            f"model: no equilibrium with the strengths as given ({reason}, {equilibrium.step} steps)"
-        )
+    start, equilibrium = _equilibrium(
+        model, lambda m: _Run(m, dt, damping, reference, chosen, vertices, threads), settings,
+        equilibrium_steps, failure,
+    )  # fmt: skip
     n_r, eq_seconds = equilibrium.step, time.perf_counter() - started
     budget = max(settings.min_trial_steps, math.ceil(settings.response_multiple * n_r))
     window = max(settings.check_every_steps, math.ceil(settings.trend_window_multiple * n_r))
@@ -169,7 +185,7 @@ def factor_of_safety_3d(
         return verdict == STABLE
 
     fs, bracket, bracketed = search.bracket_factor(
-        attempt, settings.largest_factor, settings.tolerance, False
+        attempt, settings.largest_factor, settings.tolerance, start == "elastic"
     )
     return StrengthReduction3DResult(
         fs,
@@ -182,4 +198,5 @@ def factor_of_safety_3d(
         trials,
         equilibrium,
         next(iter(failed.values()), None),
+        start,
     )

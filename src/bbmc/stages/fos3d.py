@@ -38,6 +38,7 @@ def summary_table(result: StrengthReduction3DResult, scene: Scene3D, seconds: fl
         ("last_stable_factor", result.bracket[0], "1"),
         ("first_unstable_factor", result.bracket[1], "1"),
         ("tolerance", scene.fos.tolerance, "1"),
+        ("start", result.start, ""),
         ("equilibrium_steps", result.equilibrium_steps, "1"),
         ("equilibrium_wall_time", result.equilibrium_seconds, "s"),
         ("time_step", result.dt, "s"),
@@ -86,7 +87,7 @@ def run(
         "summary": summary_table(result, scene, time.perf_counter() - started),
     }
     text = factor_of_safety_text(result.factor_of_safety, result.bracket, result.bracketed)
-    title = "bracketing and bisection; trials start from the unreduced equilibrium"
+    title = f"bracketing and bisection; trials start from the {result.start} equilibrium"
     figures = {"bracketing": trials_figure(result.trials, result.factor_of_safety, text, result.bracketed,
                                            title, scene.figure_dpi)}  # fmt: skip
     if result.failed is not None:
