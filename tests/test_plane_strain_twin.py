@@ -14,11 +14,12 @@ import pytest
 from bbmc.dem import layout as L
 from bbmc.dem.model import build_model as build_2d
 from bbmc.dem.solver import advance, prepare
+from bbmc.dem3d import monitors
 from bbmc.dem3d.extrusion import extruded_model
 from bbmc.dem3d.joint_laws import MohrCoulomb
 from bbmc.dem3d.layout import FREE, I1, MASS, PRESCRIBED, QW, X, Z
 from bbmc.dem3d.quaternion import rotation_matrix
-from bbmc.dem3d.solver import run
+from bbmc.dem3d.solver import run, time_step
 from bbmc.fos.plane_strain_twin import section_polygons, twin_factor_of_safety, twin_model
 from bbmc.fos.strength_reduction import factor_of_safety
 from bbmc.geometry import polygons
@@ -131,3 +132,35 @@ def test_section_polygons_are_the_2d_blocks():
     assert len(shapes) == 2
     area = polygons.mass_properties(shapes[1])[0]
     assert model.blocks[1, L.MASS] == pytest.approx(25.5e3 / fc.G * area, rel=1e-12)
+
+
+def _toppling_toe(columns: int, friction_deg: float) -> dict:
+    """The first `columns` columns of Goodman & Bray's toppling slope on their steps
+    (`bbmc.slope.fos_cases.GOODMAN_BRAY`), the ramped block forces replaced by gravity tilted by the
+    base dip (the 3D engine has no loads), so both engines run the same scene."""
+    scene = dict(fc.goodman_bray_case(friction_deg).scene)
+    scene.pop("loads")
+    scene.pop("monitoring")
+    scene["blocks"] = scene["blocks"][: 2 * columns]
+    dip = fc.GOODMAN_BRAY.base_dip
+    scene["gravity_m_s2"] = [-fc.G * math.sin(dip), -fc.G * math.cos(dip)]
+    return scene
+
+
+@pytest.mark.xfail(strict=True, reason="the 3D twin of three toppling columns does not settle; see doc")
+def test_three_toppling_columns_settle_in_3d_as_in_2d():
+    """Goodman & Bray's first three columns (4, 8, 12 m tall, 10 m wide) at phi 60 deg: the 2D engine
+    settles (unbalanced-force ratio below 1e-5 within 2,000 steps); the twin should within 20,000.
+    Measured: the twin's ratio wanders between 4e-4 and 0.16 over 20,000 steps (two columns settle to
+    1e-11); the columns keep rocking forward on their toes (block 2's base closes on 10 -> 4.6 m2 over
+    1 s) while the column-to-column contacts carry a shear of 0.05-0.1 sigma_n, where the 2D engine's
+    carry T / N = 0.9. Its displacements also depend on the extrusion depth, which must not matter:
+    block 1 moves 0.0096, 0.0106, 0.0107, 0.0195, 0.0081, 0.196 mm (depth 0.5, 1, 3, 7, 10, 20 m;
+    2D 0.0084), whatever the time step. Not the separating axis's tie tolerance (tried 1e-12). This is
+    why Goodman-Bray's plane-strain FS is not yet compared (the full twin does not settle in 200,000
+    steps at phi 40 deg, depth 1 or 10 m)."""
+    model = _model_2d(_toppling_toe(3, 60.0))
+    twin = twin_model(model, 1.0)
+    reference = monitors.reference_force(twin)
+    run(twin, 20_000, time_step(twin, 0.5, 0.8), 0.8)
+    assert monitors.unbalanced_force_ratio(twin, reference) < 1e-5
