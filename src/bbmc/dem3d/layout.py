@@ -11,8 +11,9 @@ are the principal axes in world coordinates (`motion.quaternion_from_matrix`).
 
 Angular velocity (WX, WY, WZ), torques (TX, TY, TZ) and prescribed angular velocities are in the world
 frame, as forces and velocities are: a contact reads v + w x r with r in world coordinates and adds
-r x f, and a plane-strain twin holds rotation about the world x and y axes. The motion kernel turns them
-into the principal frame where Euler's equations are diagonal.
+r x f, and a plane-strain twin (`bbmc.dem3d.extrusion`, extruded along y) holds rotation about the
+world x and z axes. The motion kernel turns them into the principal frame where Euler's equations
+are diagonal.
 """
 
 # --- blocks: float64 (n_blocks, BLOCK_COLUMNS) -----------------------------------------------------

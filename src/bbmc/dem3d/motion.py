@@ -19,10 +19,10 @@ spherical shortcut (w += T / J dt, q turned by w dt), which drops the gyroscopic
 every step.
 
 Blocks with a prescribed rotational degree of freedom (held about a world axis, as a plane-strain twin
-is about x and y) take the constrained kick instead: the new world angular velocity w solves J_w(q) w =
-J_w(q) w_old + T dt in the free rows and w_c = the prescribed value in the others (J_w = R diag(J) R^T),
-and q is turned by w dt about w. Exact for a free rotation about a principal axis (an extruded block's
-z axis), first order in the gyroscopic term otherwise.
+is about x and z, `bbmc.dem3d.extrusion`) take the constrained kick instead: the new world angular
+velocity w solves J_w(q) w = J_w(q) w_old + T dt in the free rows and w_c = the prescribed value in
+the others (J_w = R diag(J) R^T), and q is turned by w dt about w. Exact for a free rotation about a
+principal axis (an extruded block's y axis), first order in the gyroscopic term otherwise.
 
 Cundall's local damping, -alpha |F| sign(v), per degree of freedom: per world axis for translation (as
 in 2D); for rotation per principal axis, on the torque in the principal frame against the principal
