@@ -69,6 +69,7 @@ from bbmc.dem3d.contact_geometry import (
 )
 from bbmc.dem3d.joint_laws import P_KN, P_KS, P_PRESSURE, strength
 from bbmc.dem3d.layout import FX, TX, VX, WX, X
+from bbmc.incidence import block_contacts
 
 # --- contacts: int64 (n_pairs, CONTACT_COLUMNS) -----------------------------------------------------
 BLOCK_A, BLOCK_B = 0, 1
@@ -334,13 +335,6 @@ def add_contact_loads(blocks, contacts, subs, loads, block_start, block_pairs, t
 
 
 def block_pairs(contacts: np.ndarray, n_blocks: int) -> tuple[np.ndarray, np.ndarray]:
-    """Each block's pairs in pair order, as CSR: (start, entries), int64 (n_blocks + 1,) and
-    (2 n_pairs,); block i's are entries[start[i]:start[i + 1]], c >= 0 for pair c with the block as B,
-    -1 - c with it as A (the order `add_contact_loads` adds them in; the 2D engine's
-    `block_contacts_of`, which dem3d may not import)."""
-    index = np.arange(len(contacts), dtype=np.int64)
-    block = np.concatenate([contacts[:, BLOCK_A], contacts[:, BLOCK_B]])
-    order = np.lexsort((np.concatenate([index, index]), block))
-    start = np.zeros(n_blocks + 1, dtype=np.int64)
-    np.cumsum(np.bincount(block, minlength=n_blocks), out=start[1:])
-    return start, np.concatenate([-1 - index, index])[order]
+    """Each block's pairs in pair order, as CSR (`bbmc.incidence.block_contacts`: c >= 0 for pair c
+    with the block as B, -1 - c with it as A; the order `add_contact_loads` adds them in)."""
+    return block_contacts(contacts[:, BLOCK_A], contacts[:, BLOCK_B], n_blocks)

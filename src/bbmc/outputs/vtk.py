@@ -186,6 +186,14 @@ def collection(names: list[str], times: list[float]) -> str:
     )
 
 
+def collections(folder: str, kinds: list[str], times: list[float]) -> dict[str, str]:
+    """A PVD collection `<folder>/<kind>.pvd` of `<kind>_<k>.vtu` for each kind, one file per time [s]."""
+    return {
+        f"{folder}/{kind}.pvd": collection([f"{kind}_{k:05d}.vtu" for k in range(len(times))], times)
+        for kind in kinds
+    }
+
+
 @dataclass
 class Series:
     """Collects one record per call (a `simulate` on_record callback) as files by relative path."""
@@ -215,21 +223,6 @@ class Series:
             self.files[f"{self.folder}/support_{k:05d}.vtu"] = vtu_bytes(mesh, {}, "CellData", names)
 
     def collections(self) -> dict[str, bytes | str]:
-        """The files of every record and the two PVD collections."""
-        n = len(self.times)
-        return {
-            **self.files,
-            f"{self.folder}/blocks.pvd": collection([f"blocks_{k:05d}.vtu" for k in range(n)], self.times),
-            f"{self.folder}/contacts.pvd": collection(
-                [f"contacts_{k:05d}.vtu" for k in range(n)], self.times
-            ),
-            **(
-                {
-                    f"{self.folder}/support.pvd": collection(
-                        [f"support_{k:05d}.vtu" for k in range(n)], self.times
-                    )
-                }
-                if len(self.model.support.names)
-                else {}
-            ),
-        }
+        """The files of every record and the PVD collections."""
+        kinds = ["blocks", "contacts"] + (["support"] if len(self.model.support.names) else [])
+        return {**self.files, **collections(self.folder, kinds, self.times)}

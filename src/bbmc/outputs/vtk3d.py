@@ -30,7 +30,7 @@ import numpy as np
 from bbmc.dem3d.layout import VX, WX, X
 from bbmc.dem3d.model import Model
 from bbmc.dem3d.tables import contact_table, held_blocks, placed_vertices, rotations
-from bbmc.outputs.vtk import collection, vtu_bytes
+from bbmc.outputs.vtk import collections, vtu_bytes
 
 
 def _names(values: Sequence[str] | None, count: int) -> list[str]:
@@ -145,11 +145,4 @@ class Series3D:
 
     def collections(self) -> dict[str, bytes | str]:
         """The files of every record and the two PVD collections."""
-        n = len(self.times)
-        return {
-            **self.files,
-            f"{self.folder}/blocks.pvd": collection([f"blocks_{k:05d}.vtu" for k in range(n)], self.times),
-            f"{self.folder}/contacts.pvd": collection(
-                [f"contacts_{k:05d}.vtu" for k in range(n)], self.times
-            ),
-        }
+        return {**self.files, **collections(self.folder, ["blocks", "contacts"], self.times)}
