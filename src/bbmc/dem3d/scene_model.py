@@ -1,11 +1,13 @@
 """A 3D scene (`bbmc.scene.schema3d.Scene3D`) made into the engine's model: its blocks as convex
 polyhedra (`bbmc.geometry.polyhedra`), its rock mass cut by its joint sets
-(`bbmc.geometry.polyhedron_cutting`), its joint types (`bbmc.dem3d.joint_laws`) and the contact rules
-as the groups' table `pair_joint`, gravity with the pseudo-static seismic load, held and moving blocks.
+(`bbmc.geometry.polyhedron_cutting`), its joint types (`bbmc.dem3d.joint_laws`, each with its given
+uniform water pressure) and the contact rules as the groups' table `pair_joint`, gravity with the
+pseudo-static seismic load, the phreatic plane (`bbmc.dem3d.water.WaterTable`), held and moving blocks.
 
-Units: the scene's (MPa, MPa/mm, deg) converted to SI here: Pa, Pa/m, rad. A fault found while
-building (an unknown name, a shape that is no convex polyhedron, blocks overlapping at the start, a
-joint set that cuts nothing) is a `ConfigKeyError` naming the key and the block, raised before any step.
+Units: the scene's (MPa, kPa, MPa/mm, kN/m3, deg) converted to SI here: Pa, Pa/m, N/m3, rad. A fault
+found while building (an unknown name, a shape that is no convex polyhedron, blocks overlapping at the
+start, a joint set that cuts nothing) is a `ConfigKeyError` naming the key and the block, raised before
+any step.
 Generated blocks (the wedge's, `bbmc.slope.scene3d`) come in as `Piece`s beside the scene's own.
 """
 
@@ -23,9 +25,11 @@ from bbmc.config import ConfigKeyError
 from bbmc.dem3d.joint_laws import BartonBandis, JointLaw, MohrCoulomb
 from bbmc.dem3d.layout import FREE, VPX
 from bbmc.dem3d.model import Model, build_model
+from bbmc.dem3d.water import WaterTable
+from bbmc.geometry.orientation import upward_pole
 from bbmc.geometry.polyhedra import Polyhedron, box, extrude, from_vertices
 from bbmc.geometry.polyhedron_cutting import cut_by_joint_sets
-from bbmc.scene.schema3d import Block3D, Box, JointType, RockMass3D, Scene3D
+from bbmc.scene.schema3d import Block3D, Box, JointType, RockMass3D, Scene3D, Water3D
 
 SIDE_TOLERANCE = 1e-6  # a face lies on a side of the bounding box within this x its size [1]
 
@@ -67,10 +71,10 @@ class SceneModel:
 def joint_law(section: JointType) -> JointLaw:
     """The engine's law of a scene's joint type, in SI."""
     kn, ks = section.kn_MPa_per_mm * units.MPa_per_mm, section.ks_MPa_per_mm * units.MPa_per_mm
+    pressure = section.pressure_kPa * units.kPa
     if section.law == "mohr_coulomb":
-        return MohrCoulomb(
-            kn, ks, section.friction_deg * units.deg, section.cohesion_MPa * units.MPa, section.after_slip
-        )
+        friction, cohesion = section.friction_deg * units.deg, section.cohesion_MPa * units.MPa
+        return MohrCoulomb(kn, ks, friction, cohesion, section.after_slip, pressure)
     k = section.tangent_coefficient
     return BartonBandis(
         kn,
@@ -81,7 +85,19 @@ def joint_law(section: JointType) -> JointLaw:
         section.phi_max_deg * units.deg,
         None if k == "exact" else k,
         section.after_slip,
+        pressure,
     )
+
+
+def water_table(section: Water3D) -> WaterTable:
+    """The scene's phreatic plane: level at `elevation_m`, or through `point_m` with the upward normal
+    of a plane of `dip_deg` towards `dip_direction_deg` (`bbmc.geometry.orientation.upward_pole`);
+    gamma_w from kN/m3 to N/m3."""
+    gamma = section.unit_weight_kN_m3 * units.kN_per_m3
+    if section.elevation_m is not None:
+        return WaterTable(gamma, (0.0, 0.0, section.elevation_m), (0.0, 0.0, 1.0))
+    normal = upward_pole(section.dip_deg, section.dip_direction_deg)
+    return WaterTable(gamma, tuple(section.point_m), tuple(normal))
 
 
 def _box(section: Box, name: str) -> Polyhedron:
@@ -205,7 +221,8 @@ def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel
     held = [i for i, p in enumerate(pieces) if p.held or p.velocity is not None]
     try:
         model = build_model([p.shape for p in pieces], density, laws, held=held, gravity=_gravity(scene),
-                            refine=scene.contacts.refine, group=group_index, pair_joint=table)  # fmt: skip
+                            refine=scene.contacts.refine, group=group_index, pair_joint=table,
+                            water=water_table(scene.water) if scene.water else None)  # fmt: skip
     except ValueError as error:
         raise ConfigKeyError("blocks", _named(str(error), names)) from None
     for i, p in enumerate(pieces):
