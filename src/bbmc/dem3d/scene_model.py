@@ -27,7 +27,7 @@ from bbmc.dem3d.layout import FREE, VPX
 from bbmc.dem3d.model import Model, build_model
 from bbmc.dem3d.water import WaterTable
 from bbmc.geometry.orientation import upward_pole
-from bbmc.geometry.polyhedra import Polyhedron, box, extrude, from_vertices
+from bbmc.geometry.polyhedra import UNTAGGED, Polyhedron, box, extrude, from_vertices
 from bbmc.geometry.polyhedron_cutting import cut_by_joint_sets
 from bbmc.scene.schema3d import Block3D, Box, JointType, RockMass3D, Scene3D, Water3D
 
@@ -37,7 +37,8 @@ SIDE_TOLERANCE = 1e-6  # a face lies on a side of the bounding box within this x
 @dataclass(frozen=True)
 class Piece:
     """A block before the model: its `name`, `group`, `material`, shape, and `key` (the scene key that
-    gave it, for messages); held, or moving at `velocity` [m/s] (None: free unless held)."""
+    gave it, for messages); held, or moving at `velocity` [m/s] (None: free unless held); `face_joint`:
+    the joint type of a contact across each face (-1: the groups' rule), None: the rule on every face."""
 
     name: str
     group: str
@@ -46,6 +47,7 @@ class Piece:
     key: str
     held: bool = False
     velocity: tuple[float, float, float] | None = None
+    face_joint: tuple[int, ...] | None = None
 
 
 @dataclass
@@ -145,10 +147,11 @@ def _on_side(shape: Polyhedron, bounds: np.ndarray, side: str, size: float) -> b
     return bool(np.any(along & (np.abs(shape.offsets - sense * level) <= SIDE_TOLERANCE * size)))
 
 
-def rock_mass_pieces(section: RockMass3D) -> list[Piece]:
+def rock_mass_pieces(section: RockMass3D, set_joint: Sequence[int] | None = None) -> list[Piece]:
     """The rock mass's blocks (`RockMass3D`): the shape cut by its joint sets, slivers merged by
-    `min_block_fraction`, held where a face lies on one of `held_sides`. A set that cuts nothing is
-    refused naming it."""
+    `min_block_fraction`, held where a face lies on one of `held_sides`; a face set s cut takes the
+    joint type `set_joint[s]` (-1 or None: the groups' rule). A set that cuts nothing is refused naming
+    it."""
     key = "rock_mass"
     try:
         if section.box is not None:
@@ -165,28 +168,41 @@ def rock_mass_pieces(section: RockMass3D) -> list[Piece]:
                 f"{key}.joint_sets", f"set {name} cuts nothing: no plane of it crosses the shape"
             )
     bounds = np.array([shape.vertices.min(axis=0), shape.vertices.max(axis=0)])
+    by_set = np.array(set_joint or [-1] * len(section.joint_sets), dtype=np.int64)
     pieces = []
     for k, block in enumerate(jointed.blocks, start=1):
         held = any(_on_side(block, bounds, side, shape.size) for side in section.held_sides)
-        pieces.append(Piece(f"{section.name}.{k}", section.name, section.material, block, key, held))
+        tags = block.face_tags
+        faces = tuple(int(t) for t in np.where(tags == UNTAGGED, -1, by_set[np.maximum(tags, 0)]))
+        name = f"{section.name}.{k}"
+        pieces.append(Piece(name, section.name, section.material, block, key, held, face_joint=faces))
     return pieces
+
+
+def _type_of(scene: Scene3D, joint: str, key: str) -> int:
+    """The index of joint type `joint`; ConfigKeyError at `key` naming the known ones otherwise."""
+    names = list(scene.joint_types)
+    if joint not in names:
+        raise ConfigKeyError(key, f"no joint type '{joint}' (joint_types: {', '.join(names)})")
+    return names.index(joint)
+
+
+def _set_joints(scene: Scene3D) -> list[int]:
+    """The joint type of each of the rock mass's sets (-1 where it names none)."""
+    key = "rock_mass.joint_sets"
+    sets = scene.rock_mass.joint_sets
+    return [-1 if s.joint_type is None else _type_of(scene, s.joint_type, f"{key}.{i}.joint_type")
+            for i, s in enumerate(sets)]  # fmt: skip
 
 
 def _pair_joint(scene: Scene3D, groups: list[str]) -> tuple[list[str], np.ndarray, list[int]]:
     """The groups' names in order of first appearance, the (g, g) table of joint types and each block's
     group index; an unknown joint type or group names its rule."""
-    names = list(scene.joint_types)
     known = list(dict.fromkeys(groups))
-
-    def type_of(joint: str, key: str) -> int:
-        if joint not in names:
-            raise ConfigKeyError(key, f"no joint type '{joint}' (joint_types: {', '.join(names)})")
-        return names.index(joint)
-
-    table = np.full((len(known), len(known)), type_of(scene.contacts.default, "contacts.default"))
+    table = np.full((len(known), len(known)), _type_of(scene, scene.contacts.default, "contacts.default"))
     for i, rule in enumerate(scene.contacts.rules):
         key = f"contacts.rules.{i}"
-        j = type_of(rule.joint_type, f"{key}.joint_type")
+        j = _type_of(scene, rule.joint_type, f"{key}.joint_type")
         for group in rule.groups:
             if group not in known:
                 raise ConfigKeyError(
@@ -207,7 +223,8 @@ def _named(message: str, names: Sequence[str]) -> str:
 
 def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel:
     """The model of the scene's blocks and rock mass, and the `extra` pieces (the module docstring)."""
-    pieces = [*block_pieces(scene), *(rock_mass_pieces(scene.rock_mass) if scene.rock_mass else []), *extra]
+    rock_mass = rock_mass_pieces(scene.rock_mass, _set_joints(scene)) if scene.rock_mass else []
+    pieces = [*block_pieces(scene), *rock_mass, *extra]
     names = [p.name for p in pieces]
     for k, p in enumerate(pieces):
         if p.name in names[:k]:
@@ -219,10 +236,12 @@ def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel
     laws = [joint_law(section) for section in scene.joint_types.values()]
     density = [scene.materials[p.material].density_kg_m3 for p in pieces]
     held = [i for i, p in enumerate(pieces) if p.held or p.velocity is not None]
+    face_joint = [p.face_joint or [-1] * p.shape.face_count for p in pieces]
     try:
         model = build_model([p.shape for p in pieces], density, laws, held=held, gravity=_gravity(scene),
                             refine=scene.contacts.refine, group=group_index, pair_joint=table,
-                            water=water_table(scene.water) if scene.water else None)  # fmt: skip
+                            water=water_table(scene.water) if scene.water else None,
+                            face_joint=face_joint)  # fmt: skip
     except ValueError as error:
         raise ConfigKeyError("blocks", _named(str(error), names)) from None
     for i, p in enumerate(pieces):

@@ -148,13 +148,15 @@ class Wedge3D(Section):
 
 
 class JointSet3D(Section):
-    """A persistent set as 3DEC's `jset` cuts: planes n . x = n . origin + k spacing for every k."""
+    """A persistent set as 3DEC's `jset` cuts: planes n . x = n . origin + k spacing for every k; a
+    contact across a face one of them made takes `joint_type`, where given."""
 
     name: Name | None = None  # [J1, J2, ... in order]
     dip_deg: Annotated[float, Field(ge=0, le=90)]
     dip_direction_deg: Annotated[float, Field(ge=0, le=360)]
     spacing_m: Positive
     origin_m: Point = Field(default_factory=lambda: [0.0, 0.0, 0.0])
+    joint_type: str | None = None  # of a contact across a face this set cut [contacts' rules]
 
 
 Side = Literal["bottom", "top", "-x", "+x", "-y", "+y"]
