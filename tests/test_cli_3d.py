@@ -48,7 +48,7 @@ def refused(outcome, results: Path, *fragments: str) -> None:
     "changes, fragments",
     [
         ({"support": [{"name": "bolt"}]}, ("key 'support'", "not yet in 3D")),
-        ({"water": {"unit_weight_kN_m3": 9.81}}, ("key 'water'", "not yet in 3D")),
+        ({"water": {"unit_weight_kN_m3": 9.81}}, ("key 'water'", "give exactly one of elevation_m")),
         (
             {
                 "blocks": [

@@ -107,7 +107,7 @@ def test_the_wedge_forms_its_block_and_the_held_rock_of_its_planes():
     "changes, fragment",
     [
         ({"support": [{"bolt": 1}]}, "support.*not yet in 3D"),
-        ({"water": {"phreatic": 1}}, "water.*not yet in 3D"),
+        ({"water": {"phreatic": 1}}, "water.phreatic.*unknown key"),
         (
             {"blocks": [block("a", box={"lo_m": [0, 0, 0], "hi_m": [1, 1, 1]}, vertices_m=[[0, 0, 0]] * 4)]},
             "exactly one shape",

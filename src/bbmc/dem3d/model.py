@@ -39,8 +39,10 @@ class Model:
     `size` (n,): each block's size, twice its RADIUS [m], the scale of contact tolerances; `law_codes`,
     `law_params` the joint types' tables (`bbmc.dem3d.joint_laws`); `group` (n,) int64 each block's group
     and `pair_joint` (g, g) int64, symmetric, the joint type of a contact between blocks of groups i and j
-    (set when the pair is found, `bbmc.dem3d.solver.search`); `water_table` (4,) the phreatic plane's
-    (gamma_w [N/m³], z0 [m], a, b [1]) (`bbmc.dem3d.water.WaterTable.coefficients`; all 0: dry);
+    (set when the pair is found, `bbmc.dem3d.solver.search`), unless `face_joint` (n_faces,) int64 gives
+    the joint type of a contact across that face (a rock mass's joint set's, -1: the groups' rule);
+    `water_table` (4,) the phreatic plane's (gamma_w [N/m³], z0 [m], a, b [1])
+    (`bbmc.dem3d.water.WaterTable.coefficients`; all 0: dry);
     `refine`: the face triangulation's refinement; `margin` [m]: the broad phase's. The contact state:
     `contacts` (int64, CONTACT_COLUMNS), `contact_values` (float64, CONTACT_VALUES), `subs` (float64,
     SUB_COLUMNS) as `bbmc.dem3d.contact_forces` lays them out; `vertices_at_search`; `step`. Scratch of
@@ -66,6 +68,7 @@ class Model:
     group: np.ndarray
     pair_joint: np.ndarray
     water_table: np.ndarray
+    face_joint: np.ndarray
     contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_COLUMNS), dtype=np.int64))
     contact_values: np.ndarray = field(default_factory=lambda: np.zeros((0, CONTACT_VALUES)))
     subs: np.ndarray = field(default_factory=lambda: np.zeros((0, SUB_COLUMNS)))
@@ -87,17 +90,20 @@ def build_model(
     group: Sequence[int] | None = None,
     pair_joint: np.ndarray | None = None,
     water: WaterTable | None = None,
+    face_joint: Sequence[Sequence[int]] | None = None,
 ) -> Model:
     """The model of these blocks, of `density` [kg/m³] (one for all or one each), on the joint types
     `laws`, blocks `held` fixed in all six degrees of freedom, `gravity` [m/s²] (with a seismic
     coefficient: `bbmc.dem3d.seismic.seismic_gravity`), the face triangulation refined `refine` times
     (each triangle split in four). A contact between a block of `group` i and one of group j takes joint
-    type `pair_joint[i, j]` (default: every block in group 0, every contact of joint type 0). `water`: a
-    phreatic plane whose pressure loads the free blocks' faces below it (`bbmc.dem3d.water`; None: dry
-    but for the laws' given pressures on their contacts). Refused in one line naming the block or key:
-    a density <= 0, a held index out of range, a bad law, a group or joint type out of range, an
-    asymmetric `pair_joint`, a bad water table, two free blocks (or a free and a held one) overlapping
-    at the start (`_refuse_overlaps`)."""
+    type `pair_joint[i, j]` (default: every block in group 0, every contact of joint type 0), but a
+    contact across a face with a `face_joint` (one row per block, one entry per face: a joint type, or
+    -1 for the groups' rule) takes that face's (`bbmc.dem3d.solver.search`). `water`: a phreatic plane
+    whose pressure loads the free blocks' faces below it (`bbmc.dem3d.water`; None: dry but for the
+    laws' given pressures on their contacts). Refused in one line naming the block or key: a density
+    <= 0, a held index out of range, a bad law, a group or joint type out of range, an asymmetric
+    `pair_joint`, a block's `face_joint` not one joint type or -1 per face, a bad water table, two free
+    blocks (or a free and a held one) overlapping at the start (`_refuse_overlaps`)."""
     n = len(polyhedra)
     groups = np.zeros(n, dtype=np.int64) if group is None else np.asarray(group, dtype=np.int64)
     pairs = np.zeros((1, 1), dtype=np.int64) if pair_joint is None else np.asarray(pair_joint, dtype=np.int64)
@@ -133,6 +139,7 @@ def build_model(
     face_start = np.concatenate([[0], np.cumsum(loop_lengths)])
     body_normals = np.vstack([p.normals @ m.principal_axes for p, m in zip(polyhedra, props, strict=True)])
     law_codes, law_params = joint_tables(laws)
+    faces_joint = _face_joints(face_joint, face_counts, len(laws))
     size = 2.0 * radii
     model = Model(
         blocks=blocks,
@@ -154,6 +161,7 @@ def build_model(
         group=groups,
         pair_joint=pairs,
         water_table=np.array(water.coefficients() if water is not None else (0.0, 0.0, 0.0, 0.0)),
+        face_joint=faces_joint,
     )
     place(model.blocks, model.body_vertices, model.vertex_start, model.body_normals, model.block_face_start,
           model.vertices, model.face_normal)  # fmt: skip
@@ -175,6 +183,22 @@ def _check_groups(group: np.ndarray, pair_joint: np.ndarray, n: int, types: int)
     if not (pair_joint.min() >= 0 and pair_joint.max() < types):
         got = f"{pair_joint.min()}..{pair_joint.max()}"
         raise ValueError(f"pair_joint: joint types must be 0..{types - 1}, got {got}")
+
+
+def _face_joints(face_joint: Sequence[Sequence[int]] | None, counts: list[int], types: int) -> np.ndarray:
+    """Every face's joint type (-1: the groups' rule) as one int64 array; ValueError in one line naming
+    the block whose row is not one entry per face, each -1..types-1."""
+    if face_joint is None:
+        return np.full(sum(counts), -1, dtype=np.int64)
+    if len(face_joint) != len(counts):
+        raise ValueError(f"face_joint: one row per block ({len(counts)}), got {len(face_joint)}")
+    rows = [np.asarray(row, dtype=np.int64).reshape(-1) for row in face_joint]
+    for i, (row, count) in enumerate(zip(rows, counts, strict=True)):
+        if row.size != count or (count and not (row.min() >= -1 and row.max() < types)):
+            raise ValueError(
+                f"block {i}: face_joint must be one of -1..{types - 1} for each of its {count} faces"
+            )
+    return np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
 
 
 def _refuse_overlaps(model: Model, held: np.ndarray) -> None:

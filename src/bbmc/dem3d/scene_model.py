@@ -1,11 +1,13 @@
 """A 3D scene (`bbmc.scene.schema3d.Scene3D`) made into the engine's model: its blocks as convex
 polyhedra (`bbmc.geometry.polyhedra`), its rock mass cut by its joint sets
-(`bbmc.geometry.polyhedron_cutting`), its joint types (`bbmc.dem3d.joint_laws`) and the contact rules
-as the groups' table `pair_joint`, gravity with the pseudo-static seismic load, held and moving blocks.
+(`bbmc.geometry.polyhedron_cutting`), its joint types (`bbmc.dem3d.joint_laws`, each with its given
+uniform water pressure) and the contact rules as the groups' table `pair_joint`, gravity with the
+pseudo-static seismic load, the phreatic plane (`bbmc.dem3d.water.WaterTable`), held and moving blocks.
 
-Units: the scene's (MPa, MPa/mm, deg) converted to SI here: Pa, Pa/m, rad. A fault found while
-building (an unknown name, a shape that is no convex polyhedron, blocks overlapping at the start, a
-joint set that cuts nothing) is a `ConfigKeyError` naming the key and the block, raised before any step.
+Units: the scene's (MPa, kPa, MPa/mm, kN/m3, deg) converted to SI here: Pa, Pa/m, N/m3, rad. A fault
+found while building (an unknown name, a shape that is no convex polyhedron, blocks overlapping at the
+start, a joint set that cuts nothing) is a `ConfigKeyError` naming the key and the block, raised before
+any step.
 Generated blocks (the wedge's, `bbmc.slope.scene3d`) come in as `Piece`s beside the scene's own.
 """
 
@@ -24,9 +26,11 @@ from bbmc.dem3d.joint_laws import BartonBandis, JointLaw, MohrCoulomb
 from bbmc.dem3d.layout import FREE, VPX
 from bbmc.dem3d.model import Model, build_model
 from bbmc.dem3d.seismic import seismic_gravity
-from bbmc.geometry.polyhedra import Polyhedron, box, extrude, from_vertices
+from bbmc.dem3d.water import WaterTable
+from bbmc.geometry.orientation import upward_pole
+from bbmc.geometry.polyhedra import UNTAGGED, Polyhedron, box, extrude, from_vertices
 from bbmc.geometry.polyhedron_cutting import cut_by_joint_sets
-from bbmc.scene.schema3d import Block3D, Box, JointType, RockMass3D, Scene3D
+from bbmc.scene.schema3d import Block3D, Box, JointType, RockMass3D, Scene3D, Water3D
 
 SIDE_TOLERANCE = 1e-6  # a face lies on a side of the bounding box within this x its size [1]
 
@@ -34,7 +38,8 @@ SIDE_TOLERANCE = 1e-6  # a face lies on a side of the bounding box within this x
 @dataclass(frozen=True)
 class Piece:
     """A block before the model: its `name`, `group`, `material`, shape, and `key` (the scene key that
-    gave it, for messages); held, or moving at `velocity` [m/s] (None: free unless held)."""
+    gave it, for messages); held, or moving at `velocity` [m/s] (None: free unless held); `face_joint`:
+    the joint type of a contact across each face (-1: the groups' rule), None: the rule on every face."""
 
     name: str
     group: str
@@ -43,6 +48,7 @@ class Piece:
     key: str
     held: bool = False
     velocity: tuple[float, float, float] | None = None
+    face_joint: tuple[int, ...] | None = None
 
 
 @dataclass
@@ -68,10 +74,10 @@ class SceneModel:
 def joint_law(section: JointType) -> JointLaw:
     """The engine's law of a scene's joint type, in SI."""
     kn, ks = section.kn_MPa_per_mm * units.MPa_per_mm, section.ks_MPa_per_mm * units.MPa_per_mm
+    pressure = section.pressure_kPa * units.kPa
     if section.law == "mohr_coulomb":
-        return MohrCoulomb(
-            kn, ks, section.friction_deg * units.deg, section.cohesion_MPa * units.MPa, section.after_slip
-        )
+        friction, cohesion = section.friction_deg * units.deg, section.cohesion_MPa * units.MPa
+        return MohrCoulomb(kn, ks, friction, cohesion, section.after_slip, pressure)
     k = section.tangent_coefficient
     return BartonBandis(
         kn,
@@ -82,7 +88,19 @@ def joint_law(section: JointType) -> JointLaw:
         section.phi_max_deg * units.deg,
         None if k == "exact" else k,
         section.after_slip,
+        pressure,
     )
+
+
+def water_table(section: Water3D) -> WaterTable:
+    """The scene's phreatic plane: level at `elevation_m`, or through `point_m` with the upward normal
+    of a plane of `dip_deg` towards `dip_direction_deg` (`bbmc.geometry.orientation.upward_pole`);
+    gamma_w from kN/m3 to N/m3."""
+    gamma = section.unit_weight_kN_m3 * units.kN_per_m3
+    if section.elevation_m is not None:
+        return WaterTable(gamma, (0.0, 0.0, section.elevation_m), (0.0, 0.0, 1.0))
+    normal = upward_pole(section.dip_deg, section.dip_direction_deg)
+    return WaterTable(gamma, tuple(section.point_m), tuple(normal))
 
 
 def _box(section: Box, name: str) -> Polyhedron:
@@ -130,10 +148,11 @@ def _on_side(shape: Polyhedron, bounds: np.ndarray, side: str, size: float) -> b
     return bool(np.any(along & (np.abs(shape.offsets - sense * level) <= SIDE_TOLERANCE * size)))
 
 
-def rock_mass_pieces(section: RockMass3D) -> list[Piece]:
+def rock_mass_pieces(section: RockMass3D, set_joint: Sequence[int] | None = None) -> list[Piece]:
     """The rock mass's blocks (`RockMass3D`): the shape cut by its joint sets, slivers merged by
-    `min_block_fraction`, held where a face lies on one of `held_sides`. A set that cuts nothing is
-    refused naming it."""
+    `min_block_fraction`, held where a face lies on one of `held_sides`; a face set s cut takes the
+    joint type `set_joint[s]` (-1 or None: the groups' rule). A set that cuts nothing is refused naming
+    it."""
     key = "rock_mass"
     try:
         if section.box is not None:
@@ -150,28 +169,41 @@ def rock_mass_pieces(section: RockMass3D) -> list[Piece]:
                 f"{key}.joint_sets", f"set {name} cuts nothing: no plane of it crosses the shape"
             )
     bounds = np.array([shape.vertices.min(axis=0), shape.vertices.max(axis=0)])
+    by_set = np.array(set_joint or [-1] * len(section.joint_sets), dtype=np.int64)
     pieces = []
     for k, block in enumerate(jointed.blocks, start=1):
         held = any(_on_side(block, bounds, side, shape.size) for side in section.held_sides)
-        pieces.append(Piece(f"{section.name}.{k}", section.name, section.material, block, key, held))
+        tags = block.face_tags
+        faces = tuple(int(t) for t in np.where(tags == UNTAGGED, -1, by_set[np.maximum(tags, 0)]))
+        name = f"{section.name}.{k}"
+        pieces.append(Piece(name, section.name, section.material, block, key, held, face_joint=faces))
     return pieces
+
+
+def _type_of(scene: Scene3D, joint: str, key: str) -> int:
+    """The index of joint type `joint`; ConfigKeyError at `key` naming the known ones otherwise."""
+    names = list(scene.joint_types)
+    if joint not in names:
+        raise ConfigKeyError(key, f"no joint type '{joint}' (joint_types: {', '.join(names)})")
+    return names.index(joint)
+
+
+def _set_joints(scene: Scene3D) -> list[int]:
+    """The joint type of each of the rock mass's sets (-1 where it names none)."""
+    key = "rock_mass.joint_sets"
+    sets = scene.rock_mass.joint_sets
+    return [-1 if s.joint_type is None else _type_of(scene, s.joint_type, f"{key}.{i}.joint_type")
+            for i, s in enumerate(sets)]  # fmt: skip
 
 
 def _pair_joint(scene: Scene3D, groups: list[str]) -> tuple[list[str], np.ndarray, list[int]]:
     """The groups' names in order of first appearance, the (g, g) table of joint types and each block's
     group index; an unknown joint type or group names its rule."""
-    names = list(scene.joint_types)
     known = list(dict.fromkeys(groups))
-
-    def type_of(joint: str, key: str) -> int:
-        if joint not in names:
-            raise ConfigKeyError(key, f"no joint type '{joint}' (joint_types: {', '.join(names)})")
-        return names.index(joint)
-
-    table = np.full((len(known), len(known)), type_of(scene.contacts.default, "contacts.default"))
+    table = np.full((len(known), len(known)), _type_of(scene, scene.contacts.default, "contacts.default"))
     for i, rule in enumerate(scene.contacts.rules):
         key = f"contacts.rules.{i}"
-        j = type_of(rule.joint_type, f"{key}.joint_type")
+        j = _type_of(scene, rule.joint_type, f"{key}.joint_type")
         for group in rule.groups:
             if group not in known:
                 raise ConfigKeyError(
@@ -192,7 +224,8 @@ def _named(message: str, names: Sequence[str]) -> str:
 
 def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel:
     """The model of the scene's blocks and rock mass, and the `extra` pieces (the module docstring)."""
-    pieces = [*block_pieces(scene), *(rock_mass_pieces(scene.rock_mass) if scene.rock_mass else []), *extra]
+    rock_mass = rock_mass_pieces(scene.rock_mass, _set_joints(scene)) if scene.rock_mass else []
+    pieces = [*block_pieces(scene), *rock_mass, *extra]
     names = [p.name for p in pieces]
     for k, p in enumerate(pieces):
         if p.name in names[:k]:
@@ -204,9 +237,12 @@ def build_scene_model(scene: Scene3D, extra: Sequence[Piece] = ()) -> SceneModel
     laws = [joint_law(section) for section in scene.joint_types.values()]
     density = [scene.materials[p.material].density_kg_m3 for p in pieces]
     held = [i for i, p in enumerate(pieces) if p.held or p.velocity is not None]
+    face_joint = [p.face_joint or [-1] * p.shape.face_count for p in pieces]
     try:
         model = build_model([p.shape for p in pieces], density, laws, held=held, gravity=_gravity(scene),
-                            refine=scene.contacts.refine, group=group_index, pair_joint=table)  # fmt: skip
+                            refine=scene.contacts.refine, group=group_index, pair_joint=table,
+                            water=water_table(scene.water) if scene.water else None,
+                            face_joint=face_joint)  # fmt: skip
     except ValueError as error:
         raise ConfigKeyError("blocks", _named(str(error), names)) from None
     for i, p in enumerate(pieces):

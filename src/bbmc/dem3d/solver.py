@@ -8,7 +8,12 @@ the broad phase's pairs, each ordered so that its first block A is the one whose
 sub-contacts (a free block before a held one, then the smaller before the larger: the separating axis
 prefers A's faces on ties, so the sub-contacts sit on the sliding or falling block's face and their
 triangles tile its own footprint, not a large base's), and the state of every pair found before carried
-over. Units: m, kg, s, N.
+over. A new pair's joint type is its blocks' groups' (`pair_joint`), or, where it is a face–face
+contact across a face with a joint type of its own (`face_joint`: a rock mass's joint set's), that
+face's: A's face (the reference face of `bbmc.dem3d.contact_forces`), else B's (`pair_joint_type`). It
+is decided once, when the pair is found, from the geometry then (the separating axis and the contact
+patch, as the kernel finds them each step), and kept while the pair stays within the search margin, so
+the contact kernels never read it. Units: m, kg, s, N.
 """
 
 from __future__ import annotations
@@ -36,7 +41,13 @@ from bbmc.dem3d.contact_forces import (
     block_pairs,
     contact_forces,
 )
-from bbmc.dem3d.contact_geometry import contact_patch, face_overlap, separating_axis
+from bbmc.dem3d.contact_geometry import (
+    AXIS_FACE_A,
+    FACE_FACE,
+    contact_patch,
+    face_overlap,
+    separating_axis,
+)
 from bbmc.dem3d.joint_laws import P_KN, P_KS
 from bbmc.dem3d.layout import FX, PRESCRIBED, TX, VPX, WPX, X
 from bbmc.dem3d.model import Model, place
@@ -65,6 +76,26 @@ def _slots(model: Model, block: int) -> int:
     return int(np.diff(model.face_start[first : last + 1]).max() - 2) * 4**model.refine
 
 
+def pair_joint_type(model: Model, a: int, b: int, tagged: np.ndarray) -> int:
+    """The joint type of the new pair (a, b) (module docstring): the groups' rule, unless a block of it
+    has a face with a joint type (`tagged`, per block) and the pair is a face–face contact whose face of
+    A, else of B, has one."""
+    rule = int(model.pair_joint[model.group[a], model.group[b]])
+    if not (tagged[a] or tagged[b]):
+        return rule
+    arrays = _geometry(model)[:6]
+    scale = min(model.size[a], model.size[b])
+    _, axis, i, j, *_ = separating_axis(*arrays, a, b, scale, 0.0, -1, -1, -1)
+    kind, ref, inc, area, *_ = contact_patch(*arrays, a, b, scale, axis, i, j)
+    if kind != FACE_FACE or not area > 0.0:
+        return rule
+    face_a, face_b = (ref, inc) if axis == AXIS_FACE_A else (inc, ref)
+    for face in (face_a, face_b):
+        if model.face_joint[face] >= 0:
+            return int(model.face_joint[face])
+    return rule
+
+
 def search(model: Model) -> None:
     """New candidate pairs from the broad phase, ordered (module docstring), each pair's contact state
     carried over from the last search where it was a pair then, new pairs apart until they touch."""
@@ -74,6 +105,9 @@ def search(model: Model) -> None:
         (a, b) if (held[a], model.size[a], a) <= (held[b], model.size[b], b) else (b, a) for a, b in pairs
     ]
     old = {(int(r[BLOCK_A]), int(r[BLOCK_B])): k for k, r in enumerate(model.contacts)}
+    tagged = np.zeros(len(model.blocks), dtype=bool)
+    np.logical_or.at(tagged, np.repeat(np.arange(len(tagged)), np.diff(model.block_face_start)),
+                     model.face_joint >= 0)  # fmt: skip
     counts = [max(_slots(model, a), _slots(model, b), 1) for a, b in ordered]
     contacts = np.zeros((len(ordered), CONTACT_COLUMNS), dtype=np.int64)
     values = np.zeros((len(ordered), CONTACT_VALUES))
@@ -83,7 +117,7 @@ def search(model: Model) -> None:
         k = old.get((a, b))
         if k is None:
             contacts[c, BLOCK_A], contacts[c, BLOCK_B] = a, b
-            contacts[c, JOINT_TYPE] = model.pair_joint[model.group[a], model.group[b]]
+            contacts[c, JOINT_TYPE] = pair_joint_type(model, a, b, tagged)
             contacts[c, AXIS_KIND : AXIS_KIND + 3] = -1
             contacts[c, KEY] = NONE
         else:

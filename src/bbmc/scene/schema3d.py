@@ -34,6 +34,7 @@ class MohrCoulombJoint(Section):
     friction_deg: FrictionDeg
     cohesion_MPa: NonNegative = 0.0
     after_slip: AfterSlip = "keep"
+    pressure_kPa: NonNegative = 0.0  # a given uniform water pressure on the closed parts of its contacts
 
 
 class BartonBandisJoint3D(Section):
@@ -49,6 +50,7 @@ class BartonBandisJoint3D(Section):
     phi_max_deg: Annotated[float, Field(gt=0, lt=90)] = 70.0
     tangent_coefficient: Positive | Literal["exact"] = "exact"  # eq 15 prints 0.016
     after_slip: AfterSlip = "keep"
+    pressure_kPa: NonNegative = 0.0  # a given uniform water pressure on the closed parts of its contacts
 
 
 JointType = Annotated[MohrCoulombJoint | BartonBandisJoint3D, Field(discriminator="law")]
@@ -146,13 +148,15 @@ class Wedge3D(Section):
 
 
 class JointSet3D(Section):
-    """A persistent set as 3DEC's `jset` cuts: planes n . x = n . origin + k spacing for every k."""
+    """A persistent set as 3DEC's `jset` cuts: planes n . x = n . origin + k spacing for every k; a
+    contact across a face one of them made takes `joint_type`, where given."""
 
     name: Name | None = None  # [J1, J2, ... in order]
     dip_deg: Annotated[float, Field(ge=0, le=90)]
     dip_direction_deg: Annotated[float, Field(ge=0, le=360)]
     spacing_m: Positive
     origin_m: Point = Field(default_factory=lambda: [0.0, 0.0, 0.0])
+    joint_type: str | None = None  # of a contact across a face this set cut [contacts' rules]
 
 
 Side = Literal["bottom", "top", "-x", "+x", "-y", "+y"]
@@ -183,6 +187,29 @@ class RockMass3D(Section):
     @property
     def set_names(self) -> list[str]:
         return [s.name or f"J{n}" for n, s in enumerate(self.joint_sets, start=1)]
+
+
+class Water3D(Section):
+    """A phreatic plane (`bbmc.dem3d.water.WaterTable`): water of `unit_weight_kN_m3` (the 2D scene's
+    key) below a level table at `elevation_m`, or below the plane through `point_m` of `dip_deg` towards
+    `dip_direction_deg` (`bbmc wedge`'s plane keys; dip below 90: the table is a surface z(x, y))."""
+
+    elevation_m: float | None = None
+    point_m: Point | None = None
+    dip_deg: Annotated[float, Field(ge=0, lt=90)] | None = None
+    dip_direction_deg: Annotated[float, Field(ge=0, le=360)] | None = None
+    unit_weight_kN_m3: Positive = 9.81
+
+    @model_validator(mode="after")
+    def _one_plane(self) -> Water3D:
+        tilted = (self.point_m, self.dip_deg, self.dip_direction_deg)
+        if (self.elevation_m is None) == (self.point_m is None):
+            raise ValueError("give exactly one of elevation_m (a level table), point_m (a tilted one)")
+        if self.point_m is not None and any(v is None for v in tilted):
+            raise ValueError("point_m, dip_deg and dip_direction_deg go together: give all three")
+        if self.elevation_m is not None and any(v is not None for v in tilted):
+            raise ValueError("elevation_m is a level table: no dip_deg or dip_direction_deg")
+        return self
 
 
 class Seismic3D(Section):
@@ -255,12 +282,12 @@ class Scene3D(Section):
     solver: Solver3D
     monitoring: Monitoring3D = Monitoring3D()
     seismic: Seismic3D | None = None
-    water: Any = None  # refused: not yet in 3D
+    water: Water3D | None = None
     support: Any = None  # refused: not yet in 3D
     fos: StrengthReduction = StrengthReduction()
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
-    @field_validator("water", "support")
+    @field_validator("support")
     @classmethod
     def _not_yet_in_3d(cls, value: object) -> None:
         if value is not None:
