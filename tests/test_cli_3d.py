@@ -68,6 +68,17 @@ def test_bad_3d_input_is_one_line_exit_2_and_nothing_written(tmp_path, command, 
     refused(outcome, results, *fragments)
 
 
+@pytest.mark.parametrize("command", ["run", "fos"])
+def test_a_misspelt_dimension_is_named_not_read_as_a_2d_scene(tmp_path, command):
+    """`dimensionn: 3` would make the file a 2D scene, refused on some other key; the near miss is named."""
+    scene = {("dimensionn" if k == "dimension" else k): v for k, v in SCENE.items()}
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene), encoding="utf-8")
+    results = tmp_path / "results"
+    outcome = CliRunner().invoke(main, [command, str(path), "--results", str(results)])
+    refused(outcome, results, "key 'dimensionn'", "did you mean 'dimension'")
+
+
 def test_a_3d_run_writes_its_history_and_stops_once_balanced(tmp_path):
     """A 1 m cube set on a held base settles under its weight (closure m g / (K_n A) = 0.0245 mm) and
     stops once the unbalanced-force ratio is below 1e-3, before its 3000 steps."""

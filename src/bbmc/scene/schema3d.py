@@ -11,6 +11,7 @@ cannot form) are checked when the model is built, before any step runs.
 
 from __future__ import annotations
 
+import difflib
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -307,6 +308,10 @@ def scene_dimension(path: Path) -> int:
     """A scene file's `dimension` (2 unless it says 3), read before the scene is validated, so the
     command validates it as a 2D or a 3D scene; ConfigError naming the key for any other value."""
     raw = read_yaml(path) if Path(path).is_file() else None
+    if isinstance(raw, dict) and "dimension" not in raw:
+        near = difflib.get_close_matches("dimension", [str(k) for k in raw], n=1, cutoff=0.8)
+        if near:  # a misspelt `dimension: 3` would read the file as a 2D scene and name another key
+            raise ConfigError(f"{path}: key '{near[0]}': unknown key (did you mean 'dimension'?)")
     value = raw.get("dimension", 2) if isinstance(raw, dict) else 2
     if value not in (2, 3) or isinstance(value, bool):
         raise ConfigError(f"{path}: key 'dimension': must be 2 or 3, got {value!r}")

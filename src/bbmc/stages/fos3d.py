@@ -38,7 +38,7 @@ def summary_table(result: StrengthReduction3DResult, scene: Scene3D, seconds: fl
         ("last_stable_factor", result.bracket[0], "1"),
         ("first_unstable_factor", result.bracket[1], "1"),
         ("tolerance", scene.fos.tolerance, "1"),
-        ("start", result.start, ""),
+        ("elastic_start", int(result.start == "elastic"), "1"),
         ("equilibrium_steps", result.equilibrium_steps, "1"),
         ("equilibrium_wall_time", result.equilibrium_seconds, "s"),
         ("time_step", result.dt, "s"),
