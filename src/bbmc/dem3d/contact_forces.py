@@ -24,17 +24,23 @@ A, are carried from step to step. Each step they are first rotated onto the curr
 the normal component projected out and the length kept. Then d u_s = (v_rel - (v_rel . n) n) dt, v_rel
 = v_B + w_B x (c - x_B) - v_A - w_A x (c - x_A) at the share's centroid, tau += K_s d u_s (trial), and
 |tau| <= c + sigma_n tan(phi) (the joint type's strength at this sigma_n, `bbmc.dem3d.joint_laws`): above
-it tau is scaled back along the trial direction and the share is marked slipped. A slipping share's
-friction sigma tan(phi) is linear over it as sigma is, so that part of its shear force acts at the
-centre of pressure, c + (S_P g) / (A u(c)), the cohesion's part at the centroid c: at the centroid
-alone, the lean of sigma across a share whose triangles are not symmetric about the slip direction
-gave a sliding block a spurious yaw torque, 2 deg of turn in 1.5 s at refinement 0, falling 4 x per
-refinement (the shares' second moments). Twist: a relative spin w_n about n shears a share by w_n
-x r about its centroid, whose stresses (K_s w_n dt (n x r), summed over the share) add no force but
-the torque -K_s J_P w_n dt about n (J_P the closed part's polar moment), kept in TWIST from step to
-step, and dropped when the share slips (its stress is then the limit along the slip): without it a
-share resisted twisting only by its centroid's lever, and a block on a few shares (a strip of a base
-that rocks open) drifted round its normal. The path |d u_s| is
+it tau is scaled back along the trial direction and the share is marked slipped. A share slips as a
+whole, so its stress is taken to mobilise its local strength c + sigma(x) tan(phi) (linear over it as
+sigma is) by the same fraction everywhere, stuck or slipping: its shear force acts at the strength's
+centroid, the friction's part A tau tan(phi) sigma / limit at the centre of pressure c + (S_P g) /
+(A u(c)), the cohesion's at the centroid c. At the centroid alone, the lean of sigma across a share
+whose triangles are not symmetric about the slip direction gave a sliding block a spurious yaw torque
+(2 deg of turn in 1.5 s at refinement 0, falling 4 x per refinement); at the centroid while stuck and
+the centre of pressure once slipped, the yaw torque jumped each time a share crossed its limit, and a
+block at the limit shook between the two without end: a resting block crept, and the wedges' factor of
+safety hung on the refinement (spread 0.8 % over refinements 0-2, now 0.2 %) and, at refinement 1, on
+the step and the damping. Twist: a relative spin w_n about n shears a share by w_n x r about its
+centroid, whose stresses (K_s w_n dt (n x r), summed over the share) add no force but the torque
+-K_s J_P w_n dt about n (J_P the closed part's polar moment), kept in TWIST from step to step and
+scaled back with the stress when the share slips (by limit / trial, continuously: dropping it at once
+was another such jump; a share slipping on fades it geometrically): without it a share resisted
+twisting only by its centroid's lever, and a block on a few shares (a strip of a base that rocks open)
+drifted round its normal. The path |d u_s| is
 summed while closed; the strength is read at the path before this step's increment (as the 2D law
 update reads it). The mobilized law's dilation (`bbmc.dem3d.joint_laws`) adds DILATION to the share's
 closure, sigma_n = K_n (u + DILATION) over its geometrically closed part, and grows by tan(d_mob) x the
@@ -266,15 +272,15 @@ def _pair(c, blocks, geometry, contacts, values, subs, loads, law_codes, law_par
             f = limit / trial
             tx, ty, tz = tx * f, ty * f, tz * f
             subs[s, SLIPPED] = 1.0
-            subs[s, TWIST] = 0.0
-            if sn > 0.0 and limit > 0.0:  # friction follows the pressure: at its centre
-                w = tan_phi / (limit * a_k)
-                ox = w * (ny * mz - nz * my)
-                oy = w * (nz * mx - nx * mz)
-                oz = w * (nx * my - ny * mx)
-                mx -= a_k * (oy * tz - oz * ty)
-                my -= a_k * (oz * tx - ox * tz)
-                mz -= a_k * (ox * ty - oy * tx)
+            subs[s, TWIST] *= f
+        if sn > 0.0 and limit > 0.0:  # the friction's part at the centre of pressure
+            w = tan_phi / (limit * a_k)
+            ox = w * (ny * mz - nz * my)
+            oy = w * (nz * mx - nx * mz)
+            oz = w * (nx * my - ny * mx)
+            mx -= a_k * (oy * tz - oz * ty)
+            my -= a_k * (oz * tx - ox * tz)
+            mz -= a_k * (ox * ty - oy * tx)
         subs[s, TAUX], subs[s, TAUY], subs[s, TAUZ], subs[s, SN] = tx, ty, tz, sn
         pw = law_params[joint, P_PRESSURE]
         subs[s, PRESSURE] = pw
