@@ -60,9 +60,10 @@ import numba
 import numpy as np
 
 from bbmc.dem3d.polygon_clip import (
-    clip_half_plane,
+    clip_into,
     clip_polygon,
     clip_segment,
+    half_plane_into,
     polygon_area_centroid,
     polygon_moments,
 )
@@ -384,21 +385,23 @@ def contact_patch(
 @numba.njit(cache=True)
 def _fan(poly, refine):
     """Triangles (m, 3, 2) of a convex counter-clockwise polygon: a fan from its first vertex, each
-    triangle split into four at its mid-sides `refine` times, in a fixed order."""
+    triangle split into four at its mid-sides `refine` times, in a fixed order (triangle k's four at
+    4k..4k + 3, written in place from the last triangle down)."""
     n = poly.shape[0] - 2
-    tri = np.empty((n, 3, 2))
+    tri = np.empty((n * 4**refine, 3, 2))
     for k in range(n):
-        tri[k, 0], tri[k, 1], tri[k, 2] = poly[0], poly[k + 1], poly[k + 2]
+        for d in range(2):
+            tri[k, 0, d], tri[k, 1, d], tri[k, 2, d] = poly[0, d], poly[k + 1, d], poly[k + 2, d]
     for _ in range(refine):
-        finer = np.empty((4 * tri.shape[0], 3, 2))
-        for k in range(tri.shape[0]):
-            p, q, r = tri[k, 0], tri[k, 1], tri[k, 2]
-            pq, qr, rp = 0.5 * (p + q), 0.5 * (q + r), 0.5 * (r + p)
-            finer[4 * k, 0], finer[4 * k, 1], finer[4 * k, 2] = p, pq, rp
-            finer[4 * k + 1, 0], finer[4 * k + 1, 1], finer[4 * k + 1, 2] = pq, q, qr
-            finer[4 * k + 2, 0], finer[4 * k + 2, 1], finer[4 * k + 2, 2] = rp, qr, r
-            finer[4 * k + 3, 0], finer[4 * k + 3, 1], finer[4 * k + 3, 2] = qr, rp, pq
-        tri = finer
+        for k in range(n - 1, -1, -1):
+            for d in range(2):
+                p, q, r = tri[k, 0, d], tri[k, 1, d], tri[k, 2, d]
+                pq, qr, rp = 0.5 * (p + q), 0.5 * (q + r), 0.5 * (r + p)
+                tri[4 * k, 0, d], tri[4 * k, 1, d], tri[4 * k, 2, d] = p, pq, rp
+                tri[4 * k + 1, 0, d], tri[4 * k + 1, 1, d], tri[4 * k + 1, 2, d] = pq, q, qr
+                tri[4 * k + 2, 0, d], tri[4 * k + 2, 1, d], tri[4 * k + 2, 2, d] = rp, qr, r
+                tri[4 * k + 3, 0, d], tri[4 * k + 3, 1, d], tri[4 * k + 3, 2, d] = qr, rp, pq
+        n *= 4
     return tri
 
 
@@ -466,20 +469,26 @@ def face_shares(vertices, face_vertices, face_start, face_normal, ref, inc, refi
     gs, gt = (ni @ s) / facing, (ni @ t) / facing
     area, centroid, closure = np.zeros(m), np.empty((m, 3)), np.zeros(m)
     couple, polar = np.zeros((m, 3)), np.zeros(m)
+    scratch = np.empty((3, poly.shape[0] + 5, 2))  # the share, the clipping's other pass, its closed part
     for k in range(m):
-        mid = (tri[k, 0] + tri[k, 1] + tri[k, 2]) / 3.0
-        centroid[k] = o + mid[0] * s + mid[1] * t
+        ms = (tri[k, 0, 0] + tri[k, 1, 0] + tri[k, 2, 0]) / 3.0
+        mt = (tri[k, 0, 1] + tri[k, 1, 1] + tri[k, 2, 1]) / 3.0
+        for d in range(3):
+            centroid[k, d] = o[d] + ms * s[d] + mt * t[d]
         if poly.shape[0] < 3:
             continue
-        closed = clip_half_plane(clip_polygon(tri[k], poly), gs, gt, u0)
-        a, cs, ct, sss, sst, stt = polygon_moments(closed)
+        share = clip_into(tri[k], 3, poly, scratch[0], scratch[1])
+        closed = half_plane_into(scratch[0], share, gs, gt, u0, scratch[2])
+        a, cs, ct, sss, sst, stt = polygon_moments(scratch[2, :closed])
         if a <= 0.0:
             continue
         area[k], polar[k] = a, sss + stt
-        centroid[k] = o + cs * s + ct * t
+        for d in range(3):
+            centroid[k, d] = o[d] + cs * s[d] + ct * t[d]
         closure[k] = u0 + gs * cs + gt * ct
-        lever = (sss * gs + sst * gt) * s + (sst * gs + stt * gt) * t
-        couple[k, 0] = lever[1] * n[2] - lever[2] * n[1]
-        couple[k, 1] = lever[2] * n[0] - lever[0] * n[2]
-        couple[k, 2] = lever[0] * n[1] - lever[1] * n[0]
+        ls, lt = sss * gs + sst * gt, sst * gs + stt * gt
+        lx, ly, lz = ls * s[0] + lt * t[0], ls * s[1] + lt * t[1], ls * s[2] + lt * t[2]
+        couple[k, 0] = ly * n[2] - lz * n[1]
+        couple[k, 1] = lz * n[0] - lx * n[2]
+        couple[k, 2] = lx * n[1] - ly * n[0]
     return area, centroid, closure, couple, polar
