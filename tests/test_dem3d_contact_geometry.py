@@ -120,14 +120,17 @@ def test_separated_blocks_report_the_gap_and_its_axis():
     assert (nx, ny, nz) == (-1.0, 0.0, 0.0)
 
 
-def test_crossing_bars_touch_edge_to_edge():
-    """Two square bars turned 45 degrees about their axes (x and y), so that an edge of each points at
-    the other, pushed 0.01 into each other: an edge–edge point contact, depth 0.01, normal z, at the
-    middle of the edges' closest points."""
+@pytest.mark.parametrize("turn", [45, 135, -45])
+def test_crossing_bars_touch_edge_to_edge(turn):
+    """Two square bars turned 45 degrees (or 135, -45: another edge of each on top) about their axes (x
+    and y), so that an edge of each points at the other, pushed 0.01 into each other: an edge–edge point
+    contact, depth 0.01, normal z, at the middle of the closest points of the two edges that meet (each
+    bar has four edges along it with the same cross product: the contact is on the ones that touch, at
+    the origin, not on a parallel edge 0.2 m away)."""
     r = 0.1 * math.sqrt(2.0)
-    lower = box([-2, -0.1, -0.1], [2, 0.1, 0.1], Rotation.from_euler("x", 45, degrees=True))
+    lower = box([-2, -0.1, -0.1], [2, 0.1, 0.1], Rotation.from_euler("x", turn, degrees=True))
     c = 2 * r - 0.01
-    upper = box([-0.1, -2, c - 0.1], [0.1, 2, c + 0.1], Rotation.from_euler("y", 45, degrees=True))
+    upper = box([-0.1, -2, c - 0.1], [0.1, 2, c + 0.1], Rotation.from_euler("y", turn, degrees=True))
     arrays = scene(lower, upper)
     s, kind, *_, nx, ny, nz = sat(arrays)
     assert kind == cg.AXIS_EDGES and s == pytest.approx(-0.01, abs=1e-12)

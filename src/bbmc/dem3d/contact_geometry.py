@@ -13,19 +13,20 @@ Array layout (world coordinates; all indices global, over every block):
   ``face_vertices[q]`` to the next vertex of that loop. In a closed polyhedron every edge is met
   twice, once each way; the one with the smaller first vertex is its name (`edge_ends`).
 
-Why a separating-axis test and not Cundall's common plane. 3DEC (Cundall 1988, "Formulation of a
-three-dimensional distinct element model - Part I", IJRMMS 25(3) 107-116) finds for each pair the
-plane that maximises the gap between the blocks, by iterating on the plane's normal and position from
-the last step's; contact type follows from counting vertices near that plane, and face contacts carry
-sub-contacts at the vertices of a face triangulation, each with a share of the area. YADE's polyhedra
-intersect the two blocks (CGAL) and load by the overlap VOLUME: no contact area, so neither a stress law
-nor a shear history at points of a joint. LMGC90 and Bullet/Box2D-style manifolds clip one face against
-the other. For convex polyhedra the separating-axis test over the face normals of both blocks and the
-cross products of their edges is exact (the faces of the Minkowski difference A - B have exactly those
-normals): it gives the verdict and, in overlap, the least penetration depth and its direction without
-iteration or a convergence tolerance, and at a face contact its plane is the reference face's plane,
-which is where a converged common plane lies as well. It is started from the last step's axis. The area
-then comes from clipping (Sutherland–Hodgman), exactly, not from counting vertices.
+Why a separating-axis test and not Cundall's common plane. 3DEC (Cundall 1988, "Formulation of a three-
+dimensional distinct element model - Part I", IJRMMS 25(3) 107-116) finds for each pair the plane that
+maximises the gap between the blocks, by iterating on the plane's normal and position from the last
+step's; contact type follows from counting vertices near that plane, and face contacts carry sub-contacts
+at the vertices of a face triangulation, each with a share of the area. YADE's polyhedra intersect the
+two blocks (CGAL) and load by the overlap VOLUME: no contact area, so neither a stress law nor a shear
+history at points of a joint. LMGC90 and Bullet/Box2D-style manifolds clip one face against the other.
+For convex polyhedra the separating-axis test over the face normals of both blocks and the cross products
+of their edges (the pairs whose arcs cross on the Gauss map) is exact (the faces of the Minkowski
+difference A - B have exactly those normals): it gives the verdict and, in overlap, the least penetration
+depth and its direction without iteration or a convergence tolerance, and at a face contact its plane is
+the reference face's plane, which is where a converged common plane lies as well. It is started from the
+last step's axis. The area then comes from clipping (Sutherland–Hodgman), exactly, not from counting
+vertices.
 
 Contact kinds (`FACE_FACE` ...): the least-penetration axis is a face normal of one block (the
 reference face; ties go to a face of A, then of B, then to edges, within `FACE_PREFERENCE` x size) and:
@@ -107,9 +108,19 @@ def _face_separation(vertices, vertex_start, face_vertices, face_start, face_nor
 
 
 @numba.njit(cache=True)
-def _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb):
-    """The unit axis e_a x e_b oriented from A to B (the orientation that separates more) and the
-    separation along it [m]; separation -inf for parallel edges."""
+def _inside(vertices, first, last):
+    """A point inside the block of vertices first..last-1: their mean [m]."""
+    x, y, z = 0.0, 0.0, 0.0
+    for v in range(first, last):
+        x, y, z = x + vertices[v, 0], y + vertices[v, 1], z + vertices[v, 2]
+    return x / (last - first), y / (last - first), z / (last - first)
+
+
+@numba.njit(cache=True)
+def _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb, inside):
+    """The unit axis e_a x e_b oriented out of A at its edge (away from `inside`, a point inside A: the
+    normal of the face of A - B the two edges span, along which A's edge is A's farthest part and B's
+    edge B's nearest) and the separation along it [m]; separation -inf for parallel edges."""
     p0, p1 = edge_ends(face_vertices, face_start, fa, qa)
     r0, r1 = edge_ends(face_vertices, face_start, fb, qb)
     ex, ey, ez = (
@@ -126,12 +137,13 @@ def _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, 
     norm = math.sqrt(nx * nx + ny * ny + nz * nz)
     if norm <= PARALLEL_EDGES * math.sqrt((ex * ex + ey * ey + ez * ez) * (gx * gx + gy * gy + gz * gz)):
         return -math.inf, 0.0, 0.0, 0.0
+    out = (vertices[p0, 0] - inside[0]) * nx + (vertices[p0, 1] - inside[1]) * ny
+    if out + (vertices[p0, 2] - inside[2]) * nz < 0.0:
+        norm = -norm
     nx, ny, nz = nx / norm, ny / norm, nz / norm
-    lo_a, hi_a = _extent(vertices, vertex_start[a], vertex_start[a + 1], nx, ny, nz)
-    lo_b, hi_b = _extent(vertices, vertex_start[b], vertex_start[b + 1], nx, ny, nz)
-    if lo_b - hi_a >= lo_a - hi_b:
-        return lo_b - hi_a, nx, ny, nz
-    return lo_a - hi_b, -nx, -ny, -nz
+    _, hi_a = _extent(vertices, vertex_start[a], vertex_start[a + 1], nx, ny, nz)
+    lo_b, _ = _extent(vertices, vertex_start[b], vertex_start[b + 1], nx, ny, nz)
+    return lo_b - hi_a, nx, ny, nz
 
 
 @numba.njit(cache=True)
@@ -143,7 +155,8 @@ def _axis(vertices, vertex_start, face_vertices, face_start, face_normal, a, b, 
     if kind == AXIS_FACE_B:
         s = _face_separation(vertices, vertex_start, face_vertices, face_start, face_normal, i, a)
         return s, -face_normal[i, 0], -face_normal[i, 1], -face_normal[i, 2]
-    return _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fi, i, fj, j)
+    inside = _inside(vertices, vertex_start[a], vertex_start[a + 1])
+    return _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fi, i, fj, j, inside)
 
 
 @numba.njit(cache=True)
@@ -157,6 +170,55 @@ def _face_of_entry(face_start, first_face, last_face, q):
         else:
             hi = mid - 1
     return lo
+
+
+@numba.njit(cache=True)
+def _edges(face_vertices, face_start, first_face, last_face, first_vertex, last_vertex):
+    """A block's edges in the order the test meets them (face by face, entry by entry, each edge at the
+    entry whose first vertex is the smaller one), int64 (e, 3) rows: the entry q, its face, and the face
+    across the edge (the one whose loop runs it the other way; -1 if none does)."""
+    count = last_vertex - first_vertex
+    across = np.full((count, count), -1, dtype=np.int64)
+    e = 0
+    for f in range(first_face, last_face):
+        for q in range(face_start[f], face_start[f + 1]):
+            p0, p1 = edge_ends(face_vertices, face_start, f, q)
+            if p0 > p1:
+                across[p1 - first_vertex, p0 - first_vertex] = f
+            else:
+                e += 1
+    edges = np.empty((e, 3), dtype=np.int64)
+    e = 0
+    for f in range(first_face, last_face):
+        for q in range(face_start[f], face_start[f + 1]):
+            p0, p1 = edge_ends(face_vertices, face_start, f, q)
+            if p0 <= p1:
+                edges[e, 0], edges[e, 1], edges[e, 2] = q, f, across[p0 - first_vertex, p1 - first_vertex]
+                e += 1
+    return edges
+
+
+@numba.njit(cache=True, inline="always")
+def _minkowski_face(face_normal, fa, ga, fb, gb):
+    """Whether the edge of A between faces fa and ga and the edge of B between faces fb and gb span a
+    face of the Minkowski difference A - B (so that their cross product is a candidate axis): whether
+    the arcs of the two edges on the Gauss map, A's from n_fa to n_ga and B's negated, -n_fb to -n_gb,
+    cross (Gregorius 2013, "The separating axis test between convex polyhedra", GDC: the arc a-b is
+    crossed by c-d iff c and d lie on either side of the plane of a and b, a and b on either side of
+    that of c and d, and the two in the same hemisphere). Arcs that only touch give no axis of their
+    own: their cross product is a face normal already tested. True where an edge's other face is
+    unknown (-1)."""
+    if ga < 0 or gb < 0:
+        return True
+    ax, ay, az = face_normal[fa, 0], face_normal[fa, 1], face_normal[fa, 2]
+    bx, by, bz = face_normal[ga, 0], face_normal[ga, 1], face_normal[ga, 2]
+    cx, cy, cz = -face_normal[fb, 0], -face_normal[fb, 1], -face_normal[fb, 2]
+    dx, dy, dz = -face_normal[gb, 0], -face_normal[gb, 1], -face_normal[gb, 2]
+    ux, uy, uz = by * az - bz * ay, bz * ax - bx * az, bx * ay - by * ax  # b x a
+    vx, vy, vz = dy * cz - dz * cy, dz * cx - dx * cz, dx * cy - dy * cx  # d x c
+    cba, dba = cx * ux + cy * uy + cz * uz, dx * ux + dy * uy + dz * uz
+    adc, bdc = ax * vx + ay * vy + az * vz, bx * vx + by * vy + bz * vz
+    return cba * dba < 0.0 and adc * bdc < 0.0 and cba * bdc > 0.0
 
 
 @numba.njit(cache=True)
@@ -178,12 +240,15 @@ def separating_axis(
     """The separating-axis test of convex blocks a and b.
 
     Separation along a unit axis n (from A towards B) is min over B of n.x - max over A of n.x [m]: > 0
-    apart by at least that much, <= 0 overlapping. Over the face normals of A (outward), of B (inward)
-    and the cross products of an edge of A and an edge of B (either orientation) its greatest value is
-    > 0 if and only if the blocks are apart, and in overlap its opposite is the penetration depth, the
-    shortest move that parts them (these axes are the face normals of the Minkowski difference A - B).
-    An axis replaces the best so far only if it separates by more than `FACE_PREFERENCE` x size [m], so
-    ties go to A's faces, then B's, then edges, in index order.
+    apart by at least that much, <= 0 overlapping. Over the face normals of the Minkowski difference
+    A - B, its greatest value is > 0 if and only if the blocks are apart, and in overlap its opposite is
+    the penetration depth, the shortest move that parts them; at any other axis it is no greater. Those
+    normals are the face normals of A (outward), of B (inward), and the cross products of the edges of
+    A and B whose arcs cross on the Gauss map (`_minkowski_face`), oriented out of A at its edge
+    (`_edge_axis`): only those pairs are tried (of two boxes' 144, about a dozen), and the edges named
+    are the ones that meet, where the contact is. An axis replaces the best so far only if it separates
+    by more than `FACE_PREFERENCE` x size [m], so ties go to A's faces, then B's, then edges, in index
+    order.
 
     Started from the last step's axis (cached_kind >= 0, with cached_i and cached_j as returned): if that
     axis still parts the blocks by more than `margin` [m] it is returned at once; so is, in a full test,
@@ -236,23 +301,22 @@ def separating_axis(
             bx, by, bz = -face_normal[f, 0], -face_normal[f, 1], -face_normal[f, 2]
             if best > margin:
                 return best, kind, bi, bj, bx, by, bz
-    for fa in range(first_fa, last_fa):
-        for qa in range(face_start[fa], face_start[fa + 1]):
-            pa0, pa1 = edge_ends(face_vertices, face_start, fa, qa)
-            if pa0 > pa1:
+    edges_a = _edges(face_vertices, face_start, first_fa, last_fa, vertex_start[a], vertex_start[a + 1])
+    edges_b = _edges(face_vertices, face_start, first_fb, last_fb, vertex_start[b], vertex_start[b + 1])
+    inside = _inside(vertices, vertex_start[a], vertex_start[a + 1])
+    for ea in range(edges_a.shape[0]):
+        qa, fa, ga = edges_a[ea, 0], edges_a[ea, 1], edges_a[ea, 2]
+        for eb in range(edges_b.shape[0]):
+            qb, fb, gb = edges_b[eb, 0], edges_b[eb, 1], edges_b[eb, 2]
+            if not _minkowski_face(face_normal, fa, ga, fb, gb):
                 continue
-            for fb in range(first_fb, last_fb):
-                for qb in range(face_start[fb], face_start[fb + 1]):
-                    pb0, pb1 = edge_ends(face_vertices, face_start, fb, qb)
-                    if pb0 > pb1:
-                        continue
-                    s, nx, ny, nz = _edge_axis(
-                        vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb
-                    )
-                    if s > best + tol:
-                        best, kind, bi, bj, bx, by, bz = s, AXIS_EDGES, qa, qb, nx, ny, nz
-                        if best > margin:
-                            return best, kind, bi, bj, bx, by, bz
+            s, nx, ny, nz = _edge_axis(
+                vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb, inside
+            )
+            if s > best + tol:
+                best, kind, bi, bj, bx, by, bz = s, AXIS_EDGES, qa, qb, nx, ny, nz
+                if best > margin:
+                    return best, kind, bi, bj, bx, by, bz
     return best, kind, bi, bj, bx, by, bz
 
 
