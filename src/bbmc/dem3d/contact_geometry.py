@@ -322,12 +322,19 @@ def separating_axis(
 
 @numba.njit(cache=True)
 def face_frame(vertices, face_vertices, face_start, face_normal, f):
-    """Origin (the face's first vertex) and in-plane unit axes s, t of face f, s x t = its normal."""
-    o = vertices[face_vertices[face_start[f]]].copy()
-    s = vertices[face_vertices[face_start[f] + 1]] - o
-    s /= math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+    """Origin (the face's first vertex) and in-plane unit axes s, t of face f, s x t = its normal (the
+    rows of one (3, 3) array)."""
+    frame = np.empty((3, 3))
+    o, s, t = frame[0], frame[1], frame[2]
+    first, second = face_vertices[face_start[f]], face_vertices[face_start[f] + 1]
+    for d in range(3):
+        o[d] = vertices[first, d]
+        s[d] = vertices[second, d] - o[d]
+    length = math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+    for d in range(3):
+        s[d] /= length
     n = face_normal[f]
-    t = np.array([n[1] * s[2] - n[2] * s[1], n[2] * s[0] - n[0] * s[2], n[0] * s[1] - n[1] * s[0]])
+    t[0], t[1], t[2] = n[1] * s[2] - n[2] * s[1], n[2] * s[0] - n[0] * s[2], n[0] * s[1] - n[1] * s[0]
     return o, s, t
 
 
@@ -337,12 +344,20 @@ def _in_plane(vertices, face_vertices, face_start, f, o, s, t, reverse):
     first, n = face_start[f], face_start[f + 1] - face_start[f]
     out = np.empty((n, 2))
     for k in range(n):
-        d = vertices[face_vertices[first + (n - 1 - k if reverse else k)]] - o
-        out[k, 0], out[k, 1] = (
-            d[0] * s[0] + d[1] * s[1] + d[2] * s[2],
-            d[0] * t[0] + d[1] * t[1] + d[2] * t[2],
-        )
+        v = face_vertices[first + (n - 1 - k if reverse else k)]
+        dx, dy, dz = vertices[v, 0] - o[0], vertices[v, 1] - o[1], vertices[v, 2] - o[2]
+        out[k, 0] = dx * s[0] + dy * s[1] + dz * s[2]
+        out[k, 1] = dx * t[0] + dy * t[1] + dz * t[2]
     return out
+
+
+@numba.njit(cache=True)
+def _overlap(vertices, face_vertices, face_start, face_normal, ref, inc):
+    """`face_overlap`, and the reference face in its own (s, t) coordinates."""
+    o, s, t = face_frame(vertices, face_vertices, face_start, face_normal, ref)
+    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
+    incident = _in_plane(vertices, face_vertices, face_start, inc, o, s, t, True)
+    return clip_polygon(incident, reference), reference, o, s, t
 
 
 @numba.njit(cache=True)
@@ -351,10 +366,8 @@ def face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc):
     incident face projected on the reference plane along its normal and clipped to the reference face
     (Sutherland–Hodgman). Returns (polygon (k, 2) counter-clockwise in the reference face's (s, t)
     coordinates [m], o, s, t: `face_frame` of the reference face)."""
-    o, s, t = face_frame(vertices, face_vertices, face_start, face_normal, ref)
-    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
-    incident = _in_plane(vertices, face_vertices, face_start, inc, o, s, t, True)
-    return clip_polygon(incident, reference), o, s, t
+    poly, _, o, s, t = _overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
+    return poly, o, s, t
 
 
 @numba.njit(cache=True)
@@ -485,8 +498,7 @@ def face_sub_contacts(vertices, face_vertices, face_start, face_normal, ref, inc
     it is linear over the plane, so it is also the share's mean gap); centroid (m, 3): each share's
     centroid in world coordinates [m], the triangle's centroid where its share is empty).
     """
-    poly, o, s, t = face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
-    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
+    poly, reference, o, s, t = _overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
     tri = _fan(reference, refine)
     m = tri.shape[0]
     n, ni = face_normal[ref], face_normal[inc]
@@ -523,8 +535,7 @@ def face_shares(vertices, face_vertices, face_start, face_normal, ref, inc, refi
     world: (S_P g) x n [m³], polar (m,): P's polar second moment about c_P [m⁴]) for the m triangles,
     zero area (and the triangle's centroid) where a share is empty or open.
     """
-    poly, o, s, t = face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
-    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
+    poly, reference, o, s, t = _overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
     tri = _fan(reference, refine)
     m = tri.shape[0]
     n, ni = face_normal[ref], face_normal[inc]

@@ -60,10 +60,8 @@ def clip_into(subject, n, clip, out, work):
 def clip_polygon(subject, clip):
     """The intersection of two convex counter-clockwise polygons (Sutherland–Hodgman, `clip_into`), as
     an (k, 2) counter-clockwise polygon; k = 0 where they do not overlap."""
-    cap = subject.shape[0] + clip.shape[0] + 1
-    out = np.empty((cap, 2))
-    n = clip_into(subject, subject.shape[0], clip, out, np.empty((cap, 2)))
-    return out[:n].copy()
+    scratch = np.empty((2, subject.shape[0] + clip.shape[0] + 1, 2))
+    return scratch[0, : clip_into(subject, subject.shape[0], clip, scratch[0], scratch[1])]
 
 
 @numba.njit(cache=True)
