@@ -173,10 +173,12 @@ def _face_of_entry(face_start, first_face, last_face, q):
 
 
 @numba.njit(cache=True)
-def _edges(face_vertices, face_start, first_face, last_face, first_vertex, last_vertex):
+def _edges(face_vertices, face_start, face_normal, first_face, last_face, first_vertex, last_vertex, sign):
     """A block's edges in the order the test meets them (face by face, entry by entry, each edge at the
-    entry whose first vertex is the smaller one), int64 (e, 3) rows: the entry q, its face, and the face
-    across the edge (the one whose loop runs it the other way; -1 if none does)."""
+    entry whose first vertex is the smaller one): int64 (e, 3) rows, the entry q, its face f and the face
+    g across the edge (the one whose loop runs it the other way; -1 if none does); and float64 (e, 9)
+    rows, the edge's arc on the Gauss map (times `sign`, -1 for B: the arc of -B): its ends sign n_f and
+    sign n_g and their cross product (sign n_g) x (sign n_f) (`_minkowski_face`)."""
     count = last_vertex - first_vertex
     across = np.full((count, count), -1, dtype=np.int64)
     e = 0
@@ -187,37 +189,34 @@ def _edges(face_vertices, face_start, first_face, last_face, first_vertex, last_
                 across[p1 - first_vertex, p0 - first_vertex] = f
             else:
                 e += 1
-    edges = np.empty((e, 3), dtype=np.int64)
+    edges, arcs = np.empty((e, 3), dtype=np.int64), np.zeros((e, 9))
     e = 0
     for f in range(first_face, last_face):
         for q in range(face_start[f], face_start[f + 1]):
             p0, p1 = edge_ends(face_vertices, face_start, f, q)
-            if p0 <= p1:
-                edges[e, 0], edges[e, 1], edges[e, 2] = q, f, across[p0 - first_vertex, p1 - first_vertex]
-                e += 1
-    return edges
+            if p0 > p1:
+                continue
+            g = across[p0 - first_vertex, p1 - first_vertex]
+            edges[e, 0], edges[e, 1], edges[e, 2] = q, f, g
+            if g >= 0:
+                ax, ay, az = sign * face_normal[f, 0], sign * face_normal[f, 1], sign * face_normal[f, 2]
+                bx, by, bz = sign * face_normal[g, 0], sign * face_normal[g, 1], sign * face_normal[g, 2]
+                arcs[e, 0], arcs[e, 1], arcs[e, 2] = ax, ay, az
+                arcs[e, 3], arcs[e, 4], arcs[e, 5] = bx, by, bz
+                arcs[e, 6], arcs[e, 7], arcs[e, 8] = by * az - bz * ay, bz * ax - bx * az, bx * ay - by * ax
+            e += 1
+    return edges, arcs
 
 
 @numba.njit(cache=True, inline="always")
-def _minkowski_face(face_normal, fa, ga, fb, gb):
-    """Whether the edge of A between faces fa and ga and the edge of B between faces fb and gb span a
-    face of the Minkowski difference A - B (so that their cross product is a candidate axis): whether
-    the arcs of the two edges on the Gauss map, A's from n_fa to n_ga and B's negated, -n_fb to -n_gb,
-    cross (Gregorius 2013, "The separating axis test between convex polyhedra", GDC: the arc a-b is
-    crossed by c-d iff c and d lie on either side of the plane of a and b, a and b on either side of
-    that of c and d, and the two in the same hemisphere). Arcs that only touch give no axis of their
-    own: their cross product is a face normal already tested. True where an edge's other face is
-    unknown (-1)."""
-    if ga < 0 or gb < 0:
-        return True
-    ax, ay, az = face_normal[fa, 0], face_normal[fa, 1], face_normal[fa, 2]
-    bx, by, bz = face_normal[ga, 0], face_normal[ga, 1], face_normal[ga, 2]
-    cx, cy, cz = -face_normal[fb, 0], -face_normal[fb, 1], -face_normal[fb, 2]
-    dx, dy, dz = -face_normal[gb, 0], -face_normal[gb, 1], -face_normal[gb, 2]
-    ux, uy, uz = by * az - bz * ay, bz * ax - bx * az, bx * ay - by * ax  # b x a
-    vx, vy, vz = dy * cz - dz * cy, dz * cx - dx * cz, dx * cy - dy * cx  # d x c
-    cba, dba = cx * ux + cy * uy + cz * uz, dx * ux + dy * uy + dz * uz
-    adc, bdc = ax * vx + ay * vy + az * vz, bx * vx + by * vy + bz * vz
+def _minkowski_face(cba, dba, adc, bdc):
+    """Whether an edge of A and an edge of B span a face of the Minkowski difference A - B (so that
+    their cross product is a candidate axis), from their arcs on the Gauss map, A's from a to b and that
+    of -B from c to d (`_edges`): whether the arcs cross (Gregorius 2013, "The separating axis test
+    between convex polyhedra", GDC), i.e. c and d lie on either side of the plane of a and b (cba = c .
+    (b x a), dba = d . (b x a) of opposite signs), a and b on either side of that of c and d (adc = a .
+    (d x c), bdc = b . (d x c)), and the two arcs in the same hemisphere (cba bdc > 0). Arcs that only
+    touch give no axis of their own: their cross product is a face normal already tested."""
     return cba * dba < 0.0 and adc * bdc < 0.0 and cba * bdc > 0.0
 
 
@@ -301,15 +300,25 @@ def separating_axis(
             bx, by, bz = -face_normal[f, 0], -face_normal[f, 1], -face_normal[f, 2]
             if best > margin:
                 return best, kind, bi, bj, bx, by, bz
-    edges_a = _edges(face_vertices, face_start, first_fa, last_fa, vertex_start[a], vertex_start[a + 1])
-    edges_b = _edges(face_vertices, face_start, first_fb, last_fb, vertex_start[b], vertex_start[b + 1])
+    edges_a, arcs_a = _edges(
+        face_vertices, face_start, face_normal, first_fa, last_fa, vertex_start[a], vertex_start[a + 1], 1.0
+    )
+    edges_b, arcs_b = _edges(
+        face_vertices, face_start, face_normal, first_fb, last_fb, vertex_start[b], vertex_start[b + 1], -1.0
+    )
     inside = _inside(vertices, vertex_start[a], vertex_start[a + 1])
     for ea in range(edges_a.shape[0]):
-        qa, fa, ga = edges_a[ea, 0], edges_a[ea, 1], edges_a[ea, 2]
+        qa, fa, known = edges_a[ea, 0], edges_a[ea, 1], edges_a[ea, 2] >= 0
+        arc = arcs_a[ea]  # a, b and b x a (`_edges`)
         for eb in range(edges_b.shape[0]):
-            qb, fb, gb = edges_b[eb, 0], edges_b[eb, 1], edges_b[eb, 2]
-            if not _minkowski_face(face_normal, fa, ga, fb, gb):
-                continue
+            if known and edges_b[eb, 2] >= 0:  # both arcs known: the pair is tried only if they cross
+                cba = arcs_b[eb, 0] * arc[6] + arcs_b[eb, 1] * arc[7] + arcs_b[eb, 2] * arc[8]
+                dba = arcs_b[eb, 3] * arc[6] + arcs_b[eb, 4] * arc[7] + arcs_b[eb, 5] * arc[8]
+                adc = arc[0] * arcs_b[eb, 6] + arc[1] * arcs_b[eb, 7] + arc[2] * arcs_b[eb, 8]
+                bdc = arc[3] * arcs_b[eb, 6] + arc[4] * arcs_b[eb, 7] + arc[5] * arcs_b[eb, 8]
+                if not _minkowski_face(cba, dba, adc, bdc):
+                    continue
+            qb, fb = edges_b[eb, 0], edges_b[eb, 1]
             s, nx, ny, nz = _edge_axis(
                 vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb, inside
             )
