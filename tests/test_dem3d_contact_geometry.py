@@ -10,6 +10,7 @@ from scipy.spatial.transform import Rotation
 from shapely.geometry import Point, Polygon
 
 from bbmc.dem3d import contact_geometry as cg
+from bbmc.dem3d import face_contact
 
 BOX_LOOPS = [[0, 2, 6, 4], [1, 3, 7, 5], [0, 1, 5, 4], [2, 3, 7, 6], [0, 1, 3, 2], [4, 5, 7, 6]]
 
@@ -64,7 +65,7 @@ def sat(arrays, a=0, b=1, size=1.0, margin=0.0, cache=(-1, -1, -1)):
 
 def subs(arrays, ref, inc, refine, centre, rotation):
     verts, _, loops, fstart, _, normals = arrays
-    return cg.face_sub_contacts(verts, loops, fstart, normals, ref, inc, refine, centre, rotation)
+    return face_contact.face_sub_contacts(verts, loops, fstart, normals, ref, inc, refine, centre, rotation)
 
 
 def patch(arrays, a=0, b=1, size=1.0):
