@@ -10,6 +10,7 @@ from scipy.spatial.transform import Rotation
 from shapely.geometry import Point, Polygon
 
 from bbmc.dem3d import contact_geometry as cg
+from bbmc.dem3d import face_contact
 
 BOX_LOOPS = [[0, 2, 6, 4], [1, 3, 7, 5], [0, 1, 5, 4], [2, 3, 7, 6], [0, 1, 3, 2], [4, 5, 7, 6]]
 
@@ -64,7 +65,7 @@ def sat(arrays, a=0, b=1, size=1.0, margin=0.0, cache=(-1, -1, -1)):
 
 def subs(arrays, ref, inc, refine, centre, rotation):
     verts, _, loops, fstart, _, normals = arrays
-    return cg.face_sub_contacts(verts, loops, fstart, normals, ref, inc, refine, centre, rotation)
+    return face_contact.face_sub_contacts(verts, loops, fstart, normals, ref, inc, refine, centre, rotation)
 
 
 def patch(arrays, a=0, b=1, size=1.0):
@@ -120,14 +121,17 @@ def test_separated_blocks_report_the_gap_and_its_axis():
     assert (nx, ny, nz) == (-1.0, 0.0, 0.0)
 
 
-def test_crossing_bars_touch_edge_to_edge():
-    """Two square bars turned 45 degrees about their axes (x and y), so that an edge of each points at
-    the other, pushed 0.01 into each other: an edge–edge point contact, depth 0.01, normal z, at the
-    middle of the edges' closest points."""
+@pytest.mark.parametrize("turn", [45, 135, -45])
+def test_crossing_bars_touch_edge_to_edge(turn):
+    """Two square bars turned 45 degrees (or 135, -45: another edge of each on top) about their axes (x
+    and y), so that an edge of each points at the other, pushed 0.01 into each other: an edge–edge point
+    contact, depth 0.01, normal z, at the middle of the closest points of the two edges that meet (each
+    bar has four edges along it with the same cross product: the contact is on the ones that touch, at
+    the origin, not on a parallel edge 0.2 m away)."""
     r = 0.1 * math.sqrt(2.0)
-    lower = box([-2, -0.1, -0.1], [2, 0.1, 0.1], Rotation.from_euler("x", 45, degrees=True))
+    lower = box([-2, -0.1, -0.1], [2, 0.1, 0.1], Rotation.from_euler("x", turn, degrees=True))
     c = 2 * r - 0.01
-    upper = box([-0.1, -2, c - 0.1], [0.1, 2, c + 0.1], Rotation.from_euler("y", 45, degrees=True))
+    upper = box([-0.1, -2, c - 0.1], [0.1, 2, c + 0.1], Rotation.from_euler("y", turn, degrees=True))
     arrays = scene(lower, upper)
     s, kind, *_, nx, ny, nz = sat(arrays)
     assert kind == cg.AXIS_EDGES and s == pytest.approx(-0.01, abs=1e-12)
@@ -262,3 +266,43 @@ def test_axis_cache_gives_the_fresh_answer():
             assert cached == fresh
         else:
             assert cached[0] > margin
+
+
+def _edge_rows(loops, fstart, faces):
+    """Every edge of the faces, once each way: (first vertex, second vertex) rows."""
+    return np.array([(loops[q], loops[q + 1 if q + 1 < fstart[f + 1] else fstart[f]])
+                     for f in faces for q in range(fstart[f], fstart[f + 1])])  # fmt: skip
+
+
+def test_pruned_axes_find_the_depth_of_every_axis_and_the_edges_that_meet():
+    """300 random pairs (`_random_pair`): where they overlap, the depth is the brute-force one over every
+    face normal and every edge pair's cross product in both orientations (to FACE_PREFERENCE x size, the
+    test's tie tolerance: only Gauss-map crossing pairs are tried), and an edge–edge axis names edges that
+    lie on the two blocks' facing extremes along it (1e-9 m: rounding), where the contact is."""
+    rng = np.random.default_rng(36)
+    overlapping = edge_axes = 0
+    for _ in range(300):
+        arrays = _random_pair(rng)
+        verts, vstart, loops, fstart, bfstart, normals = arrays
+        first, second = verts[: vstart[1]], verts[vstart[1] :]
+        ea = verts[_edge_rows(loops, fstart, range(bfstart[1]))]
+        eb = verts[_edge_rows(loops, fstart, range(bfstart[1], bfstart[2]))]
+        cross = np.cross((ea[:, 1] - ea[:, 0])[:, None], (eb[:, 1] - eb[:, 0])[None]).reshape(-1, 3)
+        cross = cross[np.linalg.norm(cross, axis=1) > 1e-9]
+        axes = np.vstack([normals[: bfstart[1]], -normals[bfstart[1] :], cross, -cross])
+        axes /= np.linalg.norm(axes, axis=1)[:, None]
+        brute = ((axes @ second.T).min(axis=1) - (axes @ first.T).max(axis=1)).max()
+        s, kind, i, j, *n = sat(arrays)
+        if brute >= 0.0:
+            continue
+        overlapping += 1
+        assert brute - cg.FACE_PREFERENCE <= s <= brute + 1e-12
+        if kind == cg.AXIS_EDGES:
+            edge_axes += 1
+            fa = cg._face_of_entry(fstart, bfstart[0], bfstart[1], i)
+            fb = cg._face_of_entry(fstart, bfstart[1], bfstart[2], j)
+            ends_a = verts[list(cg.edge_ends(loops, fstart, fa, i))] @ n
+            ends_b = verts[list(cg.edge_ends(loops, fstart, fb, j))] @ n
+            assert ends_a == pytest.approx([(first @ n).max()] * 2, abs=1e-9)
+            assert ends_b == pytest.approx([(second @ n).min()] * 2, abs=1e-9)
+    assert overlapping > 50 and edge_axes > 10  # both are tested many times

@@ -70,9 +70,9 @@ from bbmc.dem3d.contact_geometry import (
     AXIS_FACE_B,
     FACE_FACE,
     contact_patch,
-    face_shares,
     separating_axis,
 )
+from bbmc.dem3d.face_contact import face_shares
 from bbmc.dem3d.joint_laws import P_KN, P_KS, P_PRESSURE, strength
 from bbmc.dem3d.layout import FX, TX, VX, WX, X
 from bbmc.incidence import block_contacts

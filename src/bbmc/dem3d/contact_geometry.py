@@ -13,19 +13,20 @@ Array layout (world coordinates; all indices global, over every block):
   ``face_vertices[q]`` to the next vertex of that loop. In a closed polyhedron every edge is met
   twice, once each way; the one with the smaller first vertex is its name (`edge_ends`).
 
-Why a separating-axis test and not Cundall's common plane. 3DEC (Cundall 1988, "Formulation of a
-three-dimensional distinct element model - Part I", IJRMMS 25(3) 107-116) finds for each pair the
-plane that maximises the gap between the blocks, by iterating on the plane's normal and position from
-the last step's; contact type follows from counting vertices near that plane, and face contacts carry
-sub-contacts at the vertices of a face triangulation, each with a share of the area. YADE's polyhedra
-intersect the two blocks (CGAL) and load by the overlap VOLUME: no contact area, so neither a stress law
-nor a shear history at points of a joint. LMGC90 and Bullet/Box2D-style manifolds clip one face against
-the other. For convex polyhedra the separating-axis test over the face normals of both blocks and the
-cross products of their edges is exact (the faces of the Minkowski difference A - B have exactly those
-normals): it gives the verdict and, in overlap, the least penetration depth and its direction without
-iteration or a convergence tolerance, and at a face contact its plane is the reference face's plane,
-which is where a converged common plane lies as well. It is started from the last step's axis. The area
-then comes from clipping (Sutherland–Hodgman), exactly, not from counting vertices.
+Why a separating-axis test and not Cundall's common plane. 3DEC (Cundall 1988, "Formulation of a three-
+dimensional distinct element model - Part I", IJRMMS 25(3) 107-116) finds for each pair the plane that
+maximises the gap between the blocks, by iterating on the plane's normal and position from the last
+step's; contact type follows from counting vertices near that plane, and face contacts carry sub-contacts
+at the vertices of a face triangulation, each with a share of the area. YADE's polyhedra intersect the
+two blocks (CGAL) and load by the overlap VOLUME: no contact area, so neither a stress law nor a shear
+history at points of a joint. LMGC90 and Bullet/Box2D-style manifolds clip one face against the other.
+For convex polyhedra the separating-axis test over the face normals of both blocks and the cross products
+of their edges (the pairs whose arcs cross on the Gauss map) is exact (the faces of the Minkowski
+difference A - B have exactly those normals): it gives the verdict and, in overlap, the least penetration
+depth and its direction without iteration or a convergence tolerance, and at a face contact its plane is
+the reference face's plane, which is where a converged common plane lies as well. It is started from the
+last step's axis. The area then comes from clipping (Sutherland–Hodgman), exactly, not from counting
+vertices.
 
 Contact kinds (`FACE_FACE` ...): the least-penetration axis is a face normal of one block (the
 reference face; ties go to a face of A, then of B, then to edges, within `FACE_PREFERENCE` x size) and:
@@ -44,14 +45,7 @@ load a corner; they are small so that an edge or a corner is stiff only over a s
 1 % of the block's size. (A known limit: a face that tilts past `FACE_ANGLE` drops from its face's area to
 the edge's nominal strip.)
 
-Sub-contacts of a face–face contact (`face_sub_contacts`): the reference face is cut into triangles, a
-fan from its first vertex, each split into four at its mid-sides `refine` times; a sub-contact sits at
-each triangle's centroid, fixed to the reference block, so it keeps its shear history as the blocks
-slide. Its share of the overlap is the triangle clipped to the overlap polygon, integrated exactly (area
-and centroid): shares never overlap, they tile the overlap, and they sum to its area whatever the
-refinement. 3DEC puts sub-contacts at the triangulation's vertices with a third of each neighbouring
-triangle's area, all or nothing as the vertex is inside the other face or not, which makes the area
-depend on the refinement; 2D bbmc's lesson (`bbmc.dem.contact_geometry`) was to integrate each share.
+Sub-contacts of a face–face contact: `bbmc.dem3d.face_contact`.
 """
 
 import math
@@ -59,13 +53,8 @@ import math
 import numba
 import numpy as np
 
-from bbmc.dem3d.polygon_clip import (
-    clip_half_plane,
-    clip_polygon,
-    clip_segment,
-    polygon_area_centroid,
-    polygon_moments,
-)
+from bbmc.dem3d.face_contact import _in_plane, face_frame, face_overlap
+from bbmc.dem3d.polygon_clip import clip_segment, polygon_area_centroid
 
 AXIS_FACE_A, AXIS_FACE_B, AXIS_EDGES = 0, 1, 2  # the separating axis: a face normal of A, of B, edge x edge
 FACE_FACE, EDGE_FACE, VERTEX_FACE, EDGE_EDGE = 0, 1, 2, 3  # contact kinds
@@ -106,9 +95,19 @@ def _face_separation(vertices, vertex_start, face_vertices, face_start, face_nor
 
 
 @numba.njit(cache=True)
-def _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb):
-    """The unit axis e_a x e_b oriented from A to B (the orientation that separates more) and the
-    separation along it [m]; separation -inf for parallel edges."""
+def _inside(vertices, first, last):
+    """A point inside the block of vertices first..last-1: their mean [m]."""
+    x, y, z = 0.0, 0.0, 0.0
+    for v in range(first, last):
+        x, y, z = x + vertices[v, 0], y + vertices[v, 1], z + vertices[v, 2]
+    return x / (last - first), y / (last - first), z / (last - first)
+
+
+@numba.njit(cache=True)
+def _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb, inside):
+    """The unit axis e_a x e_b oriented out of A at its edge (away from `inside`, a point inside A: the
+    normal of the face of A - B the two edges span, along which A's edge is A's farthest part and B's
+    edge B's nearest) and the separation along it [m]; separation -inf for parallel edges."""
     p0, p1 = edge_ends(face_vertices, face_start, fa, qa)
     r0, r1 = edge_ends(face_vertices, face_start, fb, qb)
     ex, ey, ez = (
@@ -125,12 +124,13 @@ def _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, 
     norm = math.sqrt(nx * nx + ny * ny + nz * nz)
     if norm <= PARALLEL_EDGES * math.sqrt((ex * ex + ey * ey + ez * ez) * (gx * gx + gy * gy + gz * gz)):
         return -math.inf, 0.0, 0.0, 0.0
+    out = (vertices[p0, 0] - inside[0]) * nx + (vertices[p0, 1] - inside[1]) * ny
+    if out + (vertices[p0, 2] - inside[2]) * nz < 0.0:
+        norm = -norm
     nx, ny, nz = nx / norm, ny / norm, nz / norm
-    lo_a, hi_a = _extent(vertices, vertex_start[a], vertex_start[a + 1], nx, ny, nz)
-    lo_b, hi_b = _extent(vertices, vertex_start[b], vertex_start[b + 1], nx, ny, nz)
-    if lo_b - hi_a >= lo_a - hi_b:
-        return lo_b - hi_a, nx, ny, nz
-    return lo_a - hi_b, -nx, -ny, -nz
+    _, hi_a = _extent(vertices, vertex_start[a], vertex_start[a + 1], nx, ny, nz)
+    lo_b, _ = _extent(vertices, vertex_start[b], vertex_start[b + 1], nx, ny, nz)
+    return lo_b - hi_a, nx, ny, nz
 
 
 @numba.njit(cache=True)
@@ -142,7 +142,8 @@ def _axis(vertices, vertex_start, face_vertices, face_start, face_normal, a, b, 
     if kind == AXIS_FACE_B:
         s = _face_separation(vertices, vertex_start, face_vertices, face_start, face_normal, i, a)
         return s, -face_normal[i, 0], -face_normal[i, 1], -face_normal[i, 2]
-    return _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fi, i, fj, j)
+    inside = _inside(vertices, vertex_start[a], vertex_start[a + 1])
+    return _edge_axis(vertices, vertex_start, face_vertices, face_start, a, b, fi, i, fj, j, inside)
 
 
 @numba.njit(cache=True)
@@ -156,6 +157,54 @@ def _face_of_entry(face_start, first_face, last_face, q):
         else:
             hi = mid - 1
     return lo
+
+
+@numba.njit(cache=True)
+def _edges(face_vertices, face_start, face_normal, first_face, last_face, first_vertex, last_vertex, sign):
+    """A block's edges in the order the test meets them (face by face, entry by entry, each edge at the
+    entry whose first vertex is the smaller one): int64 (e, 3) rows, the entry q, its face f and the face
+    g across the edge (the one whose loop runs it the other way; -1 if none does); and float64 (e, 9)
+    rows, the edge's arc on the Gauss map (times `sign`, -1 for B: the arc of -B): its ends sign n_f and
+    sign n_g and their cross product (sign n_g) x (sign n_f) (`_minkowski_face`)."""
+    count = last_vertex - first_vertex
+    across = np.full((count, count), -1, dtype=np.int64)
+    e = 0
+    for f in range(first_face, last_face):
+        for q in range(face_start[f], face_start[f + 1]):
+            p0, p1 = edge_ends(face_vertices, face_start, f, q)
+            if p0 > p1:
+                across[p1 - first_vertex, p0 - first_vertex] = f
+            else:
+                e += 1
+    edges, arcs = np.empty((e, 3), dtype=np.int64), np.zeros((e, 9))
+    e = 0
+    for f in range(first_face, last_face):
+        for q in range(face_start[f], face_start[f + 1]):
+            p0, p1 = edge_ends(face_vertices, face_start, f, q)
+            if p0 > p1:
+                continue
+            g = across[p0 - first_vertex, p1 - first_vertex]
+            edges[e, 0], edges[e, 1], edges[e, 2] = q, f, g
+            if g >= 0:
+                ax, ay, az = sign * face_normal[f, 0], sign * face_normal[f, 1], sign * face_normal[f, 2]
+                bx, by, bz = sign * face_normal[g, 0], sign * face_normal[g, 1], sign * face_normal[g, 2]
+                arcs[e, 0], arcs[e, 1], arcs[e, 2] = ax, ay, az
+                arcs[e, 3], arcs[e, 4], arcs[e, 5] = bx, by, bz
+                arcs[e, 6], arcs[e, 7], arcs[e, 8] = by * az - bz * ay, bz * ax - bx * az, bx * ay - by * ax
+            e += 1
+    return edges, arcs
+
+
+@numba.njit(cache=True, inline="always")
+def _minkowski_face(cba, dba, adc, bdc):
+    """Whether an edge of A and an edge of B span a face of the Minkowski difference A - B (so that
+    their cross product is a candidate axis), from their arcs on the Gauss map, A's from a to b and that
+    of -B from c to d (`_edges`): whether the arcs cross (Gregorius 2013, "The separating axis test
+    between convex polyhedra", GDC), i.e. c and d lie on either side of the plane of a and b (cba = c .
+    (b x a), dba = d . (b x a) of opposite signs), a and b on either side of that of c and d (adc = a .
+    (d x c), bdc = b . (d x c)), and the two arcs in the same hemisphere (cba bdc > 0). Arcs that only
+    touch give no axis of their own: their cross product is a face normal already tested."""
+    return cba * dba < 0.0 and adc * bdc < 0.0 and cba * bdc > 0.0
 
 
 @numba.njit(cache=True)
@@ -177,12 +226,15 @@ def separating_axis(
     """The separating-axis test of convex blocks a and b.
 
     Separation along a unit axis n (from A towards B) is min over B of n.x - max over A of n.x [m]: > 0
-    apart by at least that much, <= 0 overlapping. Over the face normals of A (outward), of B (inward)
-    and the cross products of an edge of A and an edge of B (either orientation) its greatest value is
-    > 0 if and only if the blocks are apart, and in overlap its opposite is the penetration depth, the
-    shortest move that parts them (these axes are the face normals of the Minkowski difference A - B).
-    An axis replaces the best so far only if it separates by more than `FACE_PREFERENCE` x size [m], so
-    ties go to A's faces, then B's, then edges, in index order.
+    apart by at least that much, <= 0 overlapping. Over the face normals of the Minkowski difference
+    A - B, its greatest value is > 0 if and only if the blocks are apart, and in overlap its opposite is
+    the penetration depth, the shortest move that parts them; at any other axis it is no greater. Those
+    normals are the face normals of A (outward), of B (inward), and the cross products of the edges of
+    A and B whose arcs cross on the Gauss map (`_minkowski_face`), oriented out of A at its edge
+    (`_edge_axis`): only those pairs are tried (of two boxes' 144, about a dozen), and the edges named
+    are the ones that meet, where the contact is. An axis replaces the best so far only if it separates
+    by more than `FACE_PREFERENCE` x size [m], so ties go to A's faces, then B's, then edges, in index
+    order.
 
     Started from the last step's axis (cached_kind >= 0, with cached_i and cached_j as returned): if that
     axis still parts the blocks by more than `margin` [m] it is returned at once; so is, in a full test,
@@ -235,61 +287,33 @@ def separating_axis(
             bx, by, bz = -face_normal[f, 0], -face_normal[f, 1], -face_normal[f, 2]
             if best > margin:
                 return best, kind, bi, bj, bx, by, bz
-    for fa in range(first_fa, last_fa):
-        for qa in range(face_start[fa], face_start[fa + 1]):
-            pa0, pa1 = edge_ends(face_vertices, face_start, fa, qa)
-            if pa0 > pa1:
-                continue
-            for fb in range(first_fb, last_fb):
-                for qb in range(face_start[fb], face_start[fb + 1]):
-                    pb0, pb1 = edge_ends(face_vertices, face_start, fb, qb)
-                    if pb0 > pb1:
-                        continue
-                    s, nx, ny, nz = _edge_axis(
-                        vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb
-                    )
-                    if s > best + tol:
-                        best, kind, bi, bj, bx, by, bz = s, AXIS_EDGES, qa, qb, nx, ny, nz
-                        if best > margin:
-                            return best, kind, bi, bj, bx, by, bz
+    edges_a, arcs_a = _edges(
+        face_vertices, face_start, face_normal, first_fa, last_fa, vertex_start[a], vertex_start[a + 1], 1.0
+    )
+    edges_b, arcs_b = _edges(
+        face_vertices, face_start, face_normal, first_fb, last_fb, vertex_start[b], vertex_start[b + 1], -1.0
+    )
+    inside = _inside(vertices, vertex_start[a], vertex_start[a + 1])
+    for ea in range(edges_a.shape[0]):
+        qa, fa, known = edges_a[ea, 0], edges_a[ea, 1], edges_a[ea, 2] >= 0
+        arc = arcs_a[ea]  # a, b and b x a (`_edges`)
+        for eb in range(edges_b.shape[0]):
+            if known and edges_b[eb, 2] >= 0:  # both arcs known: the pair is tried only if they cross
+                cba = arcs_b[eb, 0] * arc[6] + arcs_b[eb, 1] * arc[7] + arcs_b[eb, 2] * arc[8]
+                dba = arcs_b[eb, 3] * arc[6] + arcs_b[eb, 4] * arc[7] + arcs_b[eb, 5] * arc[8]
+                adc = arc[0] * arcs_b[eb, 6] + arc[1] * arcs_b[eb, 7] + arc[2] * arcs_b[eb, 8]
+                bdc = arc[3] * arcs_b[eb, 6] + arc[4] * arcs_b[eb, 7] + arc[5] * arcs_b[eb, 8]
+                if not _minkowski_face(cba, dba, adc, bdc):
+                    continue
+            qb, fb = edges_b[eb, 0], edges_b[eb, 1]
+            s, nx, ny, nz = _edge_axis(
+                vertices, vertex_start, face_vertices, face_start, a, b, fa, qa, fb, qb, inside
+            )
+            if s > best + tol:
+                best, kind, bi, bj, bx, by, bz = s, AXIS_EDGES, qa, qb, nx, ny, nz
+                if best > margin:
+                    return best, kind, bi, bj, bx, by, bz
     return best, kind, bi, bj, bx, by, bz
-
-
-@numba.njit(cache=True)
-def face_frame(vertices, face_vertices, face_start, face_normal, f):
-    """Origin (the face's first vertex) and in-plane unit axes s, t of face f, s x t = its normal."""
-    o = vertices[face_vertices[face_start[f]]].copy()
-    s = vertices[face_vertices[face_start[f] + 1]] - o
-    s /= math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
-    n = face_normal[f]
-    t = np.array([n[1] * s[2] - n[2] * s[1], n[2] * s[0] - n[0] * s[2], n[0] * s[1] - n[1] * s[0]])
-    return o, s, t
-
-
-@numba.njit(cache=True)
-def _in_plane(vertices, face_vertices, face_start, f, o, s, t, reverse):
-    """Face f's loop in a plane's coordinates (projected along its normal), reversed if asked."""
-    first, n = face_start[f], face_start[f + 1] - face_start[f]
-    out = np.empty((n, 2))
-    for k in range(n):
-        d = vertices[face_vertices[first + (n - 1 - k if reverse else k)]] - o
-        out[k, 0], out[k, 1] = (
-            d[0] * s[0] + d[1] * s[1] + d[2] * s[2],
-            d[0] * t[0] + d[1] * t[1] + d[2] * t[2],
-        )
-    return out
-
-
-@numba.njit(cache=True)
-def face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc):
-    """The overlap of reference face `ref` and incident face `inc` (of the other block, facing it): the
-    incident face projected on the reference plane along its normal and clipped to the reference face
-    (Sutherland–Hodgman). Returns (polygon (k, 2) counter-clockwise in the reference face's (s, t)
-    coordinates [m], o, s, t: `face_frame` of the reference face)."""
-    o, s, t = face_frame(vertices, face_vertices, face_start, face_normal, ref)
-    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
-    incident = _in_plane(vertices, face_vertices, face_start, inc, o, s, t, True)
-    return clip_polygon(incident, reference), o, s, t
 
 
 @numba.njit(cache=True)
@@ -379,107 +403,3 @@ def contact_patch(
     inside, _, _ = clip_segment(pv, pv, reference)
     c = o + pv[0] * s + pv[1] * t
     return VERTEX_FACE, ref, -1, w * w if inside else 0.0, c[0], c[1], c[2]
-
-
-@numba.njit(cache=True)
-def _fan(poly, refine):
-    """Triangles (m, 3, 2) of a convex counter-clockwise polygon: a fan from its first vertex, each
-    triangle split into four at its mid-sides `refine` times, in a fixed order."""
-    n = poly.shape[0] - 2
-    tri = np.empty((n, 3, 2))
-    for k in range(n):
-        tri[k, 0], tri[k, 1], tri[k, 2] = poly[0], poly[k + 1], poly[k + 2]
-    for _ in range(refine):
-        finer = np.empty((4 * tri.shape[0], 3, 2))
-        for k in range(tri.shape[0]):
-            p, q, r = tri[k, 0], tri[k, 1], tri[k, 2]
-            pq, qr, rp = 0.5 * (p + q), 0.5 * (q + r), 0.5 * (r + p)
-            finer[4 * k, 0], finer[4 * k, 1], finer[4 * k, 2] = p, pq, rp
-            finer[4 * k + 1, 0], finer[4 * k + 1, 1], finer[4 * k + 1, 2] = pq, q, qr
-            finer[4 * k + 2, 0], finer[4 * k + 2, 1], finer[4 * k + 2, 2] = rp, qr, r
-            finer[4 * k + 3, 0], finer[4 * k + 3, 1], finer[4 * k + 3, 2] = qr, rp, pq
-        tri = finer
-    return tri
-
-
-@numba.njit(cache=True)
-def face_sub_contacts(vertices, face_vertices, face_start, face_normal, ref, inc, refine, centre, rotation):
-    """The sub-contacts of a face–face contact between reference face `ref` and incident face `inc`.
-
-    The reference face is cut into (n - 2) 4^refine triangles (`_fan`, n its vertex count); sub-contact
-    k sits at triangle k's centroid. Its share is triangle k clipped to the overlap polygon
-    (`face_overlap`), its area and centroid integrated exactly; the shares tile the overlap.
-
-    centre (3,) and rotation (3, 3) place the reference block: x_world = centre + rotation @ x_body.
-
-    Returns (points (m, 3): the sub-contacts in the reference block's body frame [m]; area (m,): each
-    share's area [m²]; gap (m,): the gap at each share's centroid [m], the signed distance along the
-    reference normal from the reference plane to the incident face's plane (> 0 open; for rigid faces
-    it is linear over the plane, so it is also the share's mean gap); centroid (m, 3): each share's
-    centroid in world coordinates [m], the triangle's centroid where its share is empty).
-    """
-    poly, o, s, t = face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
-    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
-    tri = _fan(reference, refine)
-    m = tri.shape[0]
-    n, ni = face_normal[ref], face_normal[inc]
-    d_inc = vertices[face_vertices[face_start[inc]]] @ ni
-    facing = ni @ n
-    points, area, gap, centroid = np.empty((m, 3)), np.empty(m), np.empty(m), np.empty((m, 3))
-    for k in range(m):
-        mid = (tri[k, 0] + tri[k, 1] + tri[k, 2]) / 3.0
-        world = o + mid[0] * s + mid[1] * t
-        points[k] = rotation.T @ (world - centre)
-        share = clip_polygon(tri[k], poly) if poly.shape[0] >= 3 else poly
-        area[k], cs, ct = polygon_area_centroid(share)
-        if area[k] == 0.0:
-            cs, ct = mid[0], mid[1]
-        centroid[k] = o + cs * s + ct * t
-        gap[k] = (d_inc - ni @ centroid[k]) / facing
-    return points, area, gap, centroid
-
-
-@numba.njit(cache=True)
-def face_shares(vertices, face_vertices, face_start, face_normal, ref, inc, refine):
-    """The closed part of each sub-contact's share of a face–face contact, with the moments a linear
-    normal stress over it needs: the stress integrated exactly, not sampled at a point.
-
-    Shares as `face_sub_contacts` (the reference face's triangle k clipped to the overlap). The closure
-    u(x) = -gap(x) (> 0 closed) is linear over the reference plane, u = u_0 + g . (x - x_0), so a linear
-    normal law sigma = K_n u has, over the closed part P of a share (the share clipped to u >= 0), the
-    force K_n A_P u(c_P) along the reference normal n, acting at P's centroid c_P, and about c_P the
-    couple K_n (S_P g) x n on the block the normal pushes (S_P P's second-moment tensor about c_P in the
-    plane): the integral of (x - c_P) x n sigma(x). With it a face's rocking stiffness is whole at any
-    refinement (a point force per share would have none about the line through two shares).
-
-    Returns (area (m,) [m²], centroid (m, 3) world [m], closure (m,) at the centroid [m], couple (m, 3)
-    world: (S_P g) x n [m³], polar (m,): P's polar second moment about c_P [m⁴]) for the m triangles,
-    zero area (and the triangle's centroid) where a share is empty or open.
-    """
-    poly, o, s, t = face_overlap(vertices, face_vertices, face_start, face_normal, ref, inc)
-    reference = _in_plane(vertices, face_vertices, face_start, ref, o, s, t, False)
-    tri = _fan(reference, refine)
-    m = tri.shape[0]
-    n, ni = face_normal[ref], face_normal[inc]
-    facing = ni @ n
-    u0 = (ni @ o - vertices[face_vertices[face_start[inc]]] @ ni) / facing
-    gs, gt = (ni @ s) / facing, (ni @ t) / facing
-    area, centroid, closure = np.zeros(m), np.empty((m, 3)), np.zeros(m)
-    couple, polar = np.zeros((m, 3)), np.zeros(m)
-    for k in range(m):
-        mid = (tri[k, 0] + tri[k, 1] + tri[k, 2]) / 3.0
-        centroid[k] = o + mid[0] * s + mid[1] * t
-        if poly.shape[0] < 3:
-            continue
-        closed = clip_half_plane(clip_polygon(tri[k], poly), gs, gt, u0)
-        a, cs, ct, sss, sst, stt = polygon_moments(closed)
-        if a <= 0.0:
-            continue
-        area[k], polar[k] = a, sss + stt
-        centroid[k] = o + cs * s + ct * t
-        closure[k] = u0 + gs * cs + gt * ct
-        lever = (sss * gs + sst * gt) * s + (sst * gs + stt * gt) * t
-        couple[k, 0] = lever[1] * n[2] - lever[2] * n[1]
-        couple[k, 1] = lever[2] * n[0] - lever[0] * n[2]
-        couple[k, 2] = lever[0] * n[1] - lever[1] * n[0]
-    return area, centroid, closure, couple, polar

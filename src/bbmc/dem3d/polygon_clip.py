@@ -18,37 +18,50 @@ def _side(c0, c1, p):
 
 
 @numba.njit(cache=True)
-def clip_polygon(subject, clip):
-    """The intersection of two convex counter-clockwise polygons (Sutherland–Hodgman), as an (k, 2)
-    counter-clockwise polygon; k = 0 where they do not overlap."""
-    cap = subject.shape[0] + clip.shape[0] + 1
-    out = np.empty((cap, 2))
-    work = np.empty((cap, 2))
-    n = subject.shape[0]
-    out[:n] = subject
+def clip_into(subject, n, clip, out, work):
+    """The intersection of the convex counter-clockwise polygon subject[:n] with a convex
+    counter-clockwise polygon `clip` (Sutherland–Hodgman), left in out[:k]; returns k (0 where they do
+    not overlap). out and work are scratch of at least n + len(clip) + 1 rows, neither of them subject;
+    the passes go from one to the other in turn."""
+    out[:n] = subject[:n]
+    src, dst, flipped = out, work, False
     m = clip.shape[0]
     for c in range(m):
         if n == 0:
             break
-        c0, c1 = clip[c], clip[(c + 1) % m]
-        work[:n] = out[:n]
+        d = (c + 1) % m
+        c0s, c0t, ds_, dt_ = clip[c, 0], clip[c, 1], clip[d, 0] - clip[c, 0], clip[d, 1] - clip[c, 1]
         k = 0
+        ss, st = src[n - 1, 0], src[n - 1, 1]
+        side_s = ds_ * (st - c0t) - dt_ * (ss - c0s)
         for i in range(n):
-            s, e = work[i - 1 if i > 0 else n - 1], work[i]
-            ds, de = _side(c0, c1, s), _side(c0, c1, e)
-            if de >= 0.0:
-                if ds < 0.0:
-                    t = ds / (ds - de)
-                    out[k, 0], out[k, 1] = s[0] + t * (e[0] - s[0]), s[1] + t * (e[1] - s[1])
+            es, et = src[i, 0], src[i, 1]
+            side_e = ds_ * (et - c0t) - dt_ * (es - c0s)
+            if side_e >= 0.0:
+                if side_s < 0.0:
+                    t = side_s / (side_s - side_e)
+                    dst[k, 0], dst[k, 1] = ss + t * (es - ss), st + t * (et - st)
                     k += 1
-                out[k] = e
+                dst[k, 0], dst[k, 1] = es, et
                 k += 1
-            elif ds >= 0.0:
-                t = ds / (ds - de)
-                out[k, 0], out[k, 1] = s[0] + t * (e[0] - s[0]), s[1] + t * (e[1] - s[1])
+            elif side_s >= 0.0:
+                t = side_s / (side_s - side_e)
+                dst[k, 0], dst[k, 1] = ss + t * (es - ss), st + t * (et - st)
                 k += 1
+            ss, st, side_s = es, et, side_e
         n = k
-    return out[:n].copy()
+        src, dst, flipped = dst, src, not flipped
+    if flipped:
+        out[:n] = work[:n]
+    return n
+
+
+@numba.njit(cache=True)
+def clip_polygon(subject, clip):
+    """The intersection of two convex counter-clockwise polygons (Sutherland–Hodgman, `clip_into`), as
+    an (k, 2) counter-clockwise polygon; k = 0 where they do not overlap."""
+    scratch = np.empty((2, subject.shape[0] + clip.shape[0] + 1, 2))
+    return scratch[0, : clip_into(subject, subject.shape[0], clip, scratch[0], scratch[1])]
 
 
 @numba.njit(cache=True)
@@ -93,27 +106,39 @@ def polygon_area_centroid(poly):
 
 
 @numba.njit(cache=True)
-def clip_half_plane(poly, a, b, c):
-    """The part of a convex counter-clockwise polygon where a s + b t + c >= 0 (one Sutherland–Hodgman
-    pass against a line), counter-clockwise; (0, 2) where none of it is."""
-    n = poly.shape[0]
-    out = np.empty((n + 1, 2))
+def half_plane_into(poly, n, a, b, c, out):
+    """The part of the convex counter-clockwise polygon poly[:n] where a s + b t + c >= 0 (one
+    Sutherland–Hodgman pass against a line), counter-clockwise, left in out[:k] (at least n + 1 rows,
+    not poly); returns k (0 where none of it is)."""
     k = 0
+    if n == 0:
+        return k
+    ss, st = poly[n - 1, 0], poly[n - 1, 1]
+    side_s = a * ss + b * st + c
     for i in range(n):
-        s, e = poly[i - 1 if i > 0 else n - 1], poly[i]
-        ds, de = a * s[0] + b * s[1] + c, a * e[0] + b * e[1] + c
-        if de >= 0.0:
-            if ds < 0.0:
-                u = ds / (ds - de)
-                out[k, 0], out[k, 1] = s[0] + u * (e[0] - s[0]), s[1] + u * (e[1] - s[1])
+        es, et = poly[i, 0], poly[i, 1]
+        side_e = a * es + b * et + c
+        if side_e >= 0.0:
+            if side_s < 0.0:
+                u = side_s / (side_s - side_e)
+                out[k, 0], out[k, 1] = ss + u * (es - ss), st + u * (et - st)
                 k += 1
-            out[k] = e
+            out[k, 0], out[k, 1] = es, et
             k += 1
-        elif ds >= 0.0:
-            u = ds / (ds - de)
-            out[k, 0], out[k, 1] = s[0] + u * (e[0] - s[0]), s[1] + u * (e[1] - s[1])
+        elif side_s >= 0.0:
+            u = side_s / (side_s - side_e)
+            out[k, 0], out[k, 1] = ss + u * (es - ss), st + u * (et - st)
             k += 1
-    return out[:k].copy()
+        ss, st, side_s = es, et, side_e
+    return k
+
+
+@numba.njit(cache=True)
+def clip_half_plane(poly, a, b, c):
+    """The part of a convex counter-clockwise polygon where a s + b t + c >= 0 (`half_plane_into`),
+    counter-clockwise; (0, 2) where none of it is."""
+    out = np.empty((poly.shape[0] + 1, 2))
+    return out[: half_plane_into(poly, poly.shape[0], a, b, c, out)].copy()
 
 
 @numba.njit(cache=True)

@@ -41,13 +41,8 @@ from bbmc.dem3d.contact_forces import (
     block_pairs,
     contact_forces,
 )
-from bbmc.dem3d.contact_geometry import (
-    AXIS_FACE_A,
-    FACE_FACE,
-    contact_patch,
-    face_overlap,
-    separating_axis,
-)
+from bbmc.dem3d.contact_geometry import AXIS_FACE_A, FACE_FACE, contact_patch, separating_axis
+from bbmc.dem3d.face_contact import face_overlap
 from bbmc.dem3d.joint_laws import P_KN, P_KS
 from bbmc.dem3d.layout import FX, PRESCRIBED, TX, VPX, WPX, X
 from bbmc.dem3d.model import Model, place

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from bbmc.dem3d.contact_geometry import _in_plane, face_frame
+from bbmc.dem3d.face_contact import _in_plane, face_frame
 from bbmc.dem3d.layout import DOFS, FX, PRESCRIBED, TX, X
 from bbmc.dem3d.polygon_clip import clip_half_plane, polygon_moments
 
