@@ -12,7 +12,7 @@ from bbmc.dem3d.contact_forces import FN, FSX
 from bbmc.dem3d.joint_laws import MohrCoulomb
 from bbmc.dem3d.layout import VPX
 from bbmc.dem3d.model import build_model
-from bbmc.dem3d.polygon_clip import clip_half_plane, polygon_moments
+from bbmc.dem3d.polygon_clip import clip_half_plane, clip_polygon, polygon_moments
 from bbmc.dem3d.solver import run
 from bbmc.geometry.polyhedra import box, moved
 
@@ -73,6 +73,18 @@ def test_half_plane_clipping_keeps_the_side_asked_for():
     assert polygon_moments(clip_half_plane(square, 1.0, 1.0, -1.0))[0] == pytest.approx(0.5)
     assert polygon_moments(clip_half_plane(square, 1.0, 0.0, 2.0))[0] == pytest.approx(1.0)
     assert clip_half_plane(square, 1.0, 0.0, -2.0).shape[0] == 0
+
+
+def test_clipping_by_a_polygon_with_two_near_copies_of_a_vertex_keeps_the_overlap():
+    """A clip square whose corner (1, 1) comes twice, 1e-15 m apart along (1, -1), as clipping two
+    faces whose edges coincide leaves it (a plane-strain twin's prisms, all from y = 0 to the depth):
+    the subject square half over it keeps the overlap, area 1/2 (exact to 1e-12). The 1e-15 edge's
+    own half-plane would cut the whole subject away (its direction is round-off), which opened a twin's
+    column-to-column contact for a step and dropped its shear."""
+    d = 1e-15
+    clip = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [1.0 + d, 1.0 - d], [0.0, 1.0]])
+    subject = np.array([[0.5, 0.0], [1.5, 0.0], [1.5, 1.0], [0.5, 1.0]])
+    assert polygon_moments(clip_polygon(subject, clip))[:3] == pytest.approx((0.5, 0.75, 0.5), abs=1e-12)
 
 
 def test_a_model_refuses_bad_input_in_one_line():

@@ -327,6 +327,30 @@ def test_the_critical_step_bounds_a_face_contacts_exact_one(seed):
     assert 0.3 * exact < step < exact
 
 
+@pytest.mark.parametrize("held", [(), (0,), (2,), (0, 2), (1, 2), (0, 1, 2)])
+def test_the_critical_step_counts_the_free_rotations_only(held):
+    """A block of principal moments (1, 3, 100) kg m^2 oriented at random, its rotations about the world
+    axes `held` prescribed, on a rotational stiffness k_r alone: the step is 2 / sqrt(2 k_r / J) with J
+    the least eigenvalue of its world inertia R diag(J) R^T restricted to the free axes (numpy's, to
+    1e-12: round-off); the least principal moment with all three free, +inf with none. A plane-strain
+    twin free about y alone so takes its step from its moment about y (`bbmc.dem3d.time_step`)."""
+    axes = Rotation.random(random_state=np.random.default_rng(7)).as_matrix()
+    moments = np.array([1.0, 3.0, 100.0])
+    blocks = _block(moments=moments, axes=axes)
+    dof = _free()
+    dof[0, [3 + r for r in held]] = PRESCRIBED
+    k_r = 1e6
+    step = critical_time_step(blocks, dof, np.zeros(1), np.array([k_r]), 0.0)
+    free = [r for r in range(3) if r not in held]
+    if not free:
+        assert step == math.inf
+        return
+    inertia = axes @ np.diag(moments) @ axes.T
+    least = np.linalg.eigvalsh(inertia[np.ix_(free, free)]).min()
+    assert step == pytest.approx(2.0 / math.sqrt(2.0 * k_r / least), rel=1e-12)
+    assert least >= moments.min() * (1 - 1e-12)
+
+
 def test_density_scaling_makes_the_fixed_step_a_safe_fraction_of_the_critical_one():
     """After `scale_masses` for dt and safety 0.5, the critical step is >= dt / 0.5, and masses and
     moments are never lowered below the true ones."""

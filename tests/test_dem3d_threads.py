@@ -33,12 +33,12 @@ def test_one_and_two_threads_give_the_same_bits():
 
 
 def test_a_2d_run_imports_nothing_of_the_3d_engine():
-    """The 2D engine's solver, its run and fos stages and the bench load no module of bbmc.dem3d, in a
+    """The 2D engine's solver and its run and fos stages load no module of bbmc.dem3d, in a
     fresh interpreter: a 2D scene's step runs exactly the code it ran before 3D existed. (The command
     line imports the 3D stages to pick one by the scene's `dimension`: 0.14 s of its 4.3 s import,
     measured with -X importtime; no kernel is compiled or loaded before a 3D scene runs.)"""
     code = (
-        "import sys\nimport bbmc.dem.solver, bbmc.stages.run, bbmc.stages.fos, bbmc.stages.bench\n"
+        "import sys\nimport bbmc.dem.solver, bbmc.stages.run, bbmc.stages.fos\n"
         "print(sorted(m for m in sys.modules if m.startswith('bbmc.dem3d')))"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -10,6 +10,8 @@ subject on the left of that edge (Sutherland & Hodgman 1974, "Reentrant polygon 
 import numba
 import numpy as np
 
+DEGENERATE_EDGE = 1e-9  # x a clip polygon's extent: an edge this short has no reliable direction
+
 
 @numba.njit(cache=True, inline="always")
 def _side(c0, c1, p):
@@ -17,20 +19,38 @@ def _side(c0, c1, p):
     return (c1[0] - c0[0]) * (p[1] - c0[1]) - (c1[1] - c0[1]) * (p[0] - c0[0])
 
 
+@numba.njit(cache=True, inline="always")
+def _extent(poly):
+    """The larger side of a polygon's bounding box [m]; 0 for no vertices."""
+    if poly.shape[0] == 0:
+        return 0.0
+    lo_s, hi_s, lo_t, hi_t = poly[0, 0], poly[0, 0], poly[0, 1], poly[0, 1]
+    for i in range(1, poly.shape[0]):
+        lo_s, hi_s = min(lo_s, poly[i, 0]), max(hi_s, poly[i, 0])
+        lo_t, hi_t = min(lo_t, poly[i, 1]), max(hi_t, poly[i, 1])
+    return max(hi_s - lo_s, hi_t - lo_t)
+
+
 @numba.njit(cache=True)
 def clip_into(subject, n, clip, out, work):
     """The intersection of the convex counter-clockwise polygon subject[:n] with a convex
     counter-clockwise polygon `clip` (Sutherland–Hodgman), left in out[:k]; returns k (0 where they do
     not overlap). out and work are scratch of at least n + len(clip) + 1 rows, neither of them subject;
-    the passes go from one to the other in turn."""
+    the passes go from one to the other in turn. A clip edge shorter than `DEGENERATE_EDGE` x the clip
+    polygon's extent is passed over: its direction is round-off (two near-copies of a vertex, as
+    clipping leaves where two faces' edges coincide), so its half-plane could cut away any part of the
+    subject, while its neighbours already bound the polygon there."""
     out[:n] = subject[:n]
     src, dst, flipped = out, work, False
     m = clip.shape[0]
+    shortest = (DEGENERATE_EDGE * _extent(clip)) ** 2
     for c in range(m):
         if n == 0:
             break
         d = (c + 1) % m
         c0s, c0t, ds_, dt_ = clip[c, 0], clip[c, 1], clip[d, 0] - clip[c, 0], clip[d, 1] - clip[c, 1]
+        if ds_ * ds_ + dt_ * dt_ <= shortest:
+            continue
         k = 0
         ss, st = src[n - 1, 0], src[n - 1, 1]
         side_s = ds_ * (st - c0t) - dt_ * (ss - c0s)
