@@ -18,7 +18,6 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import pandas as pd
 
@@ -28,7 +27,7 @@ from bbmc.dem3d.layout import I1, MASS, QW, VX, X
 from bbmc.dem3d.model import Model
 from bbmc.dem3d.motion import body_angular_velocity
 from bbmc.dem3d.scene_model import SceneModel
-from bbmc.dem3d.solver import run, time_step
+from bbmc.dem3d.solver import run, thread_count, time_step
 from bbmc.progress import Progress, ProgressCallback, ignore
 from bbmc.scene.schema3d import Monitor3D, Scene3D
 
@@ -128,7 +127,7 @@ def run_scene(
             "blocks",
             "no two blocks within the search margin at the start: no contact to take a time step from",
         )
-    threads = solver.threads or numba.config.NUMBA_NUM_THREADS
+    threads = thread_count(solver.threads)
     reference = monitors.reference_force(model)
     moving = _free_vertices(model)
     origin = model.vertices[moving].copy()

@@ -166,6 +166,11 @@ def forces(model: Model, dt: float) -> None:
                       model.block_pairs, False)  # fmt: skip
 
 
+def thread_count(requested: int | None) -> int:
+    """The threads a run takes: `requested`, or numba's whole pool (every core) when None."""
+    return requested or numba.config.NUMBA_NUM_THREADS
+
+
 def run(model: Model, steps: int, dt: float, damping: float = 0.0, threads: int = 1) -> None:
     """`steps` steps of dt [s] with Cundall's local damping `damping` [1], continuing the model, on
     `threads` threads (at most numba's pool; above 1 the pairs and blocks are shared among them, with

@@ -247,7 +247,10 @@ class StrengthReductionResult:
 
     @property
     def trials_table(self) -> pd.DataFrame:
-        """fos.csv (`trials_table`)."""
+        """fos.csv: one row per trial, in the order run: `trial` (1, 2, ...), `factor` (F), `verdict`,
+        `reason`, `steps`, `largest_displacement_mm`, `unbalanced_force_ratio`, `wall_time_s`,
+        `moved_most_block` (of the judged blocks) and `moved_most_block_size_m` (the module's
+        `trials_table`, which the 3D search's table shares)."""
         return trials_table(self.trials)
 
     @property

@@ -12,11 +12,11 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-import numba
 import pandas as pd
 
 from bbmc.config import ConfigKeyError
 from bbmc.dem3d.scene_model import SceneModel, judged_blocks
+from bbmc.dem3d.solver import thread_count
 from bbmc.fos.result import factor_of_safety_text, trials_table
 from bbmc.fos.strength_reduction3d import StrengthReduction3DResult, factor_of_safety_3d
 from bbmc.io import StageResult
@@ -78,7 +78,7 @@ def run(
             equilibrium_steps=solver.steps,
             judged=judged,
             progress=progress,
-            threads=solver.threads or numba.config.NUMBA_NUM_THREADS,
+            threads=thread_count(solver.threads),
         )
     except ValueError as error:
         raise ConfigKeyError("solver.steps", str(error)) from None
