@@ -39,6 +39,7 @@ fos: $(STAMP)
 	$(BIN)/bbmc fos configs/scenes/bolted_planar.yaml
 	$(BIN)/bbmc run configs/scenes/benched_rock_mass.yaml
 	$(BIN)/bbmc fos configs/scenes/benched_rock_mass.yaml
+	$(BIN)/bbmc fos configs/scenes/wedge_bench_3d.yaml
 
 joint: $(STAMP)
 	$(BIN)/bbmc joint --config configs/joint.yaml
@@ -53,6 +54,7 @@ wedge: $(STAMP) kinematics
 	$(BIN)/bbmc wedge configs/wedge.yaml
 	$(BIN)/bbmc wedge configs/wedge_combinations.yaml
 	$(BIN)/bbmc wedge configs/wedge_pit.yaml
+	$(BIN)/bbmc wedge configs/wedge_bench_le.yaml
 
 sweep: $(STAMP)
 	$(BIN)/bbmc sweep --config configs/sweeps/planar_block.yaml

@@ -285,3 +285,20 @@ def test_wedge_section_writes_its_costs_with_the_issues_marks(tmp_path):
     assert table.loc["samples_per_second", "mark"] == "at least 1e6"
     assert set(table.loc[timed, "met"]) <= {True, False}
     assert table.loc["samples", "met"] != table.loc["samples", "met"]  # no mark, no verdict (NaN)
+
+
+@pytest.mark.slow
+def test_engine3d_section_writes_the_3d_rates_beside_the_2d_ones_with_the_issues_marks(tmp_path):
+    """Tiny sizes (a 27-block stack, 2 steps, one process each): every row, the marks, the bitwise
+    check on 1 and 2 threads, and no module of the 3D engine in a 2D run."""
+    small = {"block_counts": [27], "steps": 2, "threads_blocks": 27, "repeats": 1}
+    outcome, out = _bench(tmp_path, {"engine3d": small}, "--only", "engine3d")
+    assert outcome.exit_code == 0, outcome.output
+    table = pd.read_csv(out / "engine3d.csv").set_index("quantity")
+    assert list(table.columns) == ["value", "unit", "mark", "met"]
+    assert table.loc["blocks_3d_27", "value"] == 28  # 27 and the held base
+    assert (table.loc[["rate_3d_27", "rate_2d_27", "speedup_2_threads_27", "wedge_srm_s"], "value"] > 0).all()
+    assert table.loc["bitwise_1_2_threads_27", "value"] == 1
+    assert table.loc["dem3d_modules_in_a_2d_run", "value"] == 0
+    assert table.loc["wedge_srm_s", "mark"] == "under 30 s"
+    assert table.loc["wedge_srm_fs", "value"] == pytest.approx(1.2746, rel=0.01)  # 3DEC's, issue 36

@@ -34,6 +34,7 @@ from pydantic import BaseModel
 
 from bbmc.cli import main
 from bbmc.scene.schema import Scene
+from bbmc.scene.schema3d import Scene3D
 from bbmc.sweep.config import Config as Study
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -45,6 +46,7 @@ RUN_PAGES = [
     *sorted((DOCS / "how-to").glob("*.md")),
     DOCS / "rock-mass.md",
     DOCS / "reference" / "api" / "api.md",
+    DOCS / "reference" / "scene3d-format.md",
 ]
 ALL_PAGES = [README, *sorted(DOCS.rglob("*.md"))]
 SHOWN_INPUTS = ("docs/examples/", "configs/scenes/", "configs/sweeps/")
@@ -328,8 +330,12 @@ def _table_keys(page: Path) -> set[str]:
 
 @pytest.mark.parametrize(
     "page, model",
-    [(DOCS / "scene-format.md", Scene), (DOCS / "reference" / "study-format.md", Study)],
-    ids=["scene-format", "study-format"],
+    [
+        (DOCS / "scene-format.md", Scene),
+        (DOCS / "reference" / "study-format.md", Study),
+        (DOCS / "reference" / "scene3d-format.md", Scene3D),
+    ],
+    ids=["scene-format", "study-format", "scene3d-format"],
 )
 def test_every_key_documented_is_read_and_every_key_read_is_documented(page, model):
     documented, read = _table_keys(page), _fields(model)

@@ -23,6 +23,7 @@ from bbmc.dem.model import build_model
 from bbmc.geometry.polygons import joint_set_trace
 from bbmc.plausibility import ImplausibleValue
 from bbmc.scene.schema import Scene
+from bbmc.scene.schema3d import Scene3D
 from bbmc.stages import audit, bench, fit, joint, joints, kinematics, mc, shear, slope, wedge
 from bbmc.sweep.config import Config as Study
 from stage_runs import PAPER, config_copy
@@ -46,6 +47,7 @@ STAGE_MODELS = {
     "wedge": wedge.Config,
     "wedge_combinations": wedge.Config,
     "wedge_pit": wedge.Config,
+    "wedge_bench_le": wedge.Config,
 }
 EVERY_CONFIG = sorted(CONFIGS.glob("**/*.yaml"))
 
@@ -56,7 +58,7 @@ def _invoke(*args: object) -> Result:
 
 def _model_of(path: Path):
     if path.parent.name == "scenes":
-        return Scene
+        return Scene3D if yaml.safe_load(path.read_text()).get("dimension") == 3 else Scene
     if path.parent.name == "sweeps":
         return Study
     return STAGE_MODELS[path.stem]

@@ -97,7 +97,7 @@ def test_the_architecture_page_draws_the_contracts_layers():
         if line.lstrip().startswith(("┌", "├", "└")):
             rows.append([])
         else:
-            rows[-1] += [word for word in re.findall(r"[a-z_]+", line[LABEL:]) if word in names]
+            rows[-1] += [word for word in re.findall(r"[a-z_][a-z_0-9]*", line[LABEL:]) if word in names]
     drawn = [row for row in rows if row]
     assert sorted(word for row in drawn for word in row) == sorted(names)
     assert [set(row) for row in drawn] == [set().union(*layers[:4]), *layers[4:]]

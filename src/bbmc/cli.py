@@ -24,15 +24,18 @@ from bbmc.io import provenance, write_stage
 from bbmc.progress import Progress
 from bbmc.progress_bar import ProgressBar
 from bbmc.scene.paths import with_threads
+from bbmc.scene.schema3d import scene_dimension
 from bbmc.stages import audit as audit_stage
 from bbmc.stages import bench as bench_stage
 from bbmc.stages import fit as fit_stage
 from bbmc.stages import fos as fos_stage
+from bbmc.stages import fos3d as fos3d_stage
 from bbmc.stages import joint as joint_stage
 from bbmc.stages import joints as joints_stage
 from bbmc.stages import kinematics as kinematics_stage
 from bbmc.stages import mc as mc_stage
 from bbmc.stages import run as run_stage
+from bbmc.stages import run3d as run3d_stage
 from bbmc.stages import shear as shear_stage
 from bbmc.stages import slope as slope_stage
 from bbmc.stages import sweep as sweep_stage
@@ -55,6 +58,11 @@ def _config_path(name: str, noun: str, argument: str | None, option: str | None,
             f"{default}: not found from this folder (the default {noun}): give the {noun}: bbmc {name} {what}"
         )
     return Path(given or default)
+
+
+def _scene_stage(config_path: Path, two: ModuleType, three: ModuleType) -> ModuleType:
+    """The stage for the scene's dimension: `three` for a scene with ``dimension: 3``, else `two`."""
+    return three if scene_dimension(config_path) == 3 else two
 
 
 def _run_stage(
@@ -192,11 +200,12 @@ def run_command(config_path: Path, results: str, strict: bool, vtk: bool, thread
     and writes nothing.
     """
     with reported(run_stage.NAME, strict):
-        scene = with_threads(load_config(config_path, run_stage.Config), threads)
+        stage = _scene_stage(config_path, run_stage, run3d_stage)
+        scene = with_threads(load_config(config_path, stage.Config), threads)
         progress = ProgressBar(scene.solver.steps, f"bbmc run {config_path.name}")
         try:
             with scene_at_fault(config_path):
-                result, outcome = run_stage.run(scene, config_path, progress, vtk)
+                result, outcome = stage.run(scene, config_path, progress, vtk)
         finally:
             progress.close()
         for warning in outcome.warnings:
@@ -222,7 +231,8 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
     with a design: section, design.csv. Each trial is reported on stderr once the search has lasted 2 s.
     """
     with reported(fos_stage.NAME, strict):
-        scene = with_threads(load_config(config_path, fos_stage.Config), threads)
+        stage = _scene_stage(config_path, fos_stage, fos3d_stage)
+        scene = with_threads(load_config(config_path, stage.Config), threads)
         started = time.perf_counter()
 
         def progress(report: Progress) -> None:
@@ -230,24 +240,11 @@ def fos_command(config_path: Path, results: str, strict: bool, threads: int | No
                 click.echo(f"bbmc fos: {report.text}", err=True)
 
         with scene_at_fault(config_path):
-            result, found = fos_stage.run(scene, config_path, progress)
+            result, found = stage.run(scene, config_path, progress)
         out_dir = Path(results) / fos_stage.NAME / run_stage.output_name(scene, config_path)
         written = write_stage(out_dir, result, provenance(fos_stage.NAME, config_path, scene))
-    outcome = found.result
-    bound = "" if outcome.bracketed else " (not bracketed: beyond the searched range)"
-    click.echo(
-        f"bbmc fos: factor of safety {outcome.factor_of_safety_text}{bound}, "
-        f"{len(outcome.trials)} trials, {time.perf_counter() - started:.1f} s"
-    )
-    if outcome.progressive_note:
-        click.echo(f"bbmc fos: note: {outcome.progressive_note}")
-    if outcome.failing_note:
-        click.echo(f"bbmc fos: {outcome.failing_note}")
-    if outcome.elastic_start_note:
-        click.echo(f"bbmc fos: warning: {outcome.elastic_start_note}", err=True)
-    note = found.design.note if found.design is not None else ""
-    for line in fos_stage.support_summary_lines(scene, result.tables["summary"], found.unsupported, note):
-        click.echo(f"bbmc fos: {line}")
+    for line in stage.command_lines(scene, result, found, time.perf_counter() - started):
+        click.echo(f"bbmc fos: {line}", err=line.startswith("warning: "))
     report_written(fos_stage.NAME, out_dir, written)
 
 

@@ -17,4 +17,6 @@ Pa_per_m = 1.0
 GPa_per_m = GPa / m
 MPa_per_mm = MPa / mm
 kPa_per_mm = kPa / mm
+kN = 1.0e3
+kN_per_m3 = kN / m**3  # a unit weight
 per_mm = 1.0 / mm

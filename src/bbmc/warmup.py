@@ -16,7 +16,9 @@ other kernels, a thread count say, needs a run with it here):
 * `FEATURED`: a block on the paper's peak-only Barton–Bandis joint, one on the full (mobilized)
   joint, two joined by intact rock that breaks into a joint, joint water, a pseudo-static k_h, edge
   and block loads, a law update on stress change; then its factor of safety
-  (strength-reduction trials).
+  (strength-reduction trials);
+* `SCENE_3D`: the 3D engine (`bbmc.dem3d`): a wedge and a box on Mohr–Coulomb and Barton–Bandis
+  joints under a pseudo-static k_h, run on one thread and on two, then its factor of safety.
 
 Then every numpy ufunc of `bbmc.laws` is called once on float64 arrays (its loop for the type numpy
 callers pass). A kernel is counted as compiled when this call wrote it into the cache folder
@@ -36,8 +38,12 @@ from bbmc import kernel_cache, laws
 from bbmc.config import validate
 from bbmc.dem.model import build_model
 from bbmc.dem.solver import simulate
+from bbmc.dem3d.scene_run import run_scene
 from bbmc.fos.strength_reduction import factor_of_safety
+from bbmc.fos.strength_reduction3d import factor_of_safety_3d
 from bbmc.scene.schema import Scene
+from bbmc.scene.schema3d import Scene3D
+from bbmc.slope.scene3d import build_scene3d
 
 _MOHR_COULOMB = {"law": "constant", "kn_MPa_per_mm": 10, "ks_MPa_per_mm": 5, "friction_deg": 35}
 
@@ -151,6 +157,34 @@ FEATURED: dict = {
 }
 
 
+SCENE_3D: dict = {
+    "name": "warmup_3d",
+    "dimension": 3,
+    "materials": {"rock": {"density_kg_m3": 2600}},
+    "joint_types": {
+        "mc": {"law": "mohr_coulomb", "kn_MPa_per_mm": 1, "ks_MPa_per_mm": 0.5, "friction_deg": 35},
+        "bb": {"law": "barton_bandis", "kn_MPa_per_mm": 1, "ks_MPa_per_mm": 0.5, "jrc": 8, "jcs_MPa": 60,
+               "phi_b_deg": 30},
+    },
+    "contacts": {"default": "bb", "rules": [{"groups": ["box", "base"], "joint_type": "mc"}]},
+    "blocks": [
+        {"name": "base", "material": "rock", "held": True, "box": {"lo_m": [20, -2, -1], "hi_m": [24, 2, 0]}},
+        {"name": "box", "material": "rock", "box": {"lo_m": [21, -1, 0], "hi_m": [23, 1, 1]}},
+    ],
+    "wedge": {
+        "material": "rock",
+        "plane_1": {"dip_deg": 40, "dip_direction_deg": 130},
+        "plane_2": {"dip_deg": 60, "dip_direction_deg": 220},
+        "face": {"dip_deg": 80, "dip_direction_deg": 180},
+        "upper_surface": {"dip_deg": 0, "dip_direction_deg": 180},
+        "height_m": 4,
+    },
+    "seismic": {"horizontal_coefficient": 0.02, "towards_deg": 180},
+    "solver": {"steps": 200},
+    "fos": {"tolerance": 0.1, "min_trial_steps": 100, "response_multiple": 1, "largest_factor": 4},
+}  # fmt: skip
+
+
 @dataclass(frozen=True)
 class Warmup:
     """What one warm-up did: `compiled` kernels written into the cache `folder` by this call,
@@ -176,6 +210,17 @@ def _warm_ufuncs() -> None:
             law(*[ones] * law.nin)
 
 
+def _warm_3d() -> None:
+    """Run `SCENE_3D` on one thread and on two (the engine's serial and threaded paths) and search its
+    factor of safety, as `bbmc run` and `bbmc fos` do."""
+    scene = validate(SCENE_3D, Scene3D, "<scene dict>")
+    for threads in (1, 2):
+        variant = scene.model_copy(update={"solver": scene.solver.model_copy(update={"threads": threads})})
+        run_scene(build_scene3d(variant), variant)
+    built = build_scene3d(scene)
+    factor_of_safety_3d(built.model, scene.fos, equilibrium_steps=20_000)
+
+
 def warm(progress: Callable[[str], None] = lambda _: None) -> Warmup:
     """Compile (or load) every kernel of the engine and the laws through the public run path: the two
     scenes `PLAIN` and `FEATURED` run, the latter's factor of safety, the laws' ufuncs. `progress` is
@@ -189,6 +234,8 @@ def warm(progress: Callable[[str], None] = lambda _: None) -> Warmup:
     simulate(_model(FEATURED))
     progress("strength reduction (factor of safety trials)")
     factor_of_safety(_model(FEATURED))
+    progress("the 3D block engine, on one thread and two, and its factor of safety")
+    _warm_3d()
     progress("the joint laws as numpy ufuncs")
     _warm_ufuncs()
     compiled = len(kernel_cache.written_since(before, folder))

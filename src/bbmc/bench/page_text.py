@@ -423,4 +423,17 @@ targets and `met` whether the median meets them.
             )
         ],
     ),
+    Section(
+        "engine3d",
+        "The 3D block engine",
+        """
+Sub-contact updates per second per core (one thread) of the 3D engine on a stack of boxes
+(`bbmc.bench.engine3d_scene`) beside the 2D engine's on a slope of about as many blocks, the 3D rate on
+2 threads with its speed-up and whether the two runs ended with the same bits, the wall time of a 3D
+wedge's factor of safety, and the modules of the 3D engine a 2D run loads. Each the median of fresh
+processes, 3D and 2D taking turns. The `mark` column gives issue 36's targets and `met` whether the
+median meets them.
+""",
+        [Table("engine3d", "The 3D engine beside the 2D one", ["quantity", "value", "unit", "mark", "met"])],
+    ),
 ]

@@ -9,11 +9,10 @@ import numpy as np
 
 from bbmc import laws, units
 from bbmc.dem import layout as L
-from bbmc.joint.derived import FullJoint, full_joint
+from bbmc.joint.derived import joint_at_field_length
 from bbmc.joint.model import SIGMA_REF
 from bbmc.scene.schema import (
     BartonBandisLaw,
-    BartonBandisStrength,
     ConstantLaw,
     MobilizedLaw,
     Scene,
@@ -29,36 +28,12 @@ SHEAR_CODES = {
 }
 
 
-def _joint_at_field_length(
-    keys: BartonBandisStrength | MobilizedLaw,
-    jrc: float,
-    jcs_MPa: float,
-    aperture: float | None = None,
-    sigma_c: float | None = None,
-) -> FullJoint:
-    """A Barton-Bandis law's joint (either law: the keys they share, `bbmc.joint.inputs`) at its field
-    length, in SI (`bbmc.joint.derived.full_joint`): JRC [1] and JCS [MPa] as given at the lab length,
-    phi_r given or from the rebound ratio (None where neither is), and the closure from `aperture` [m]
-    or `sigma_c` [Pa] where given."""
-    return full_joint(
-        jrc,
-        jcs_MPa * units.MPa,
-        keys.lab_length_m,
-        keys.field_length_m or keys.lab_length_m,
-        phi_b=keys.phi_b_deg * units.deg,
-        phi_r=None if keys.phi_r_deg is None else keys.phi_r_deg * units.deg,
-        rebound_ratio=keys.rebound_ratio,
-        aperture=aperture,
-        sigma_c=sigma_c,
-    )
-
-
 def _mobilized_law_row(law: MobilizedLaw, p: np.ndarray) -> tuple[list[int], np.ndarray]:
     """The mobilized law's parameters: JRC_n, JCS_n at the field length, phi_r, delta_peak, M, and the
     Bandis closure's K_ni, V_m (`bbmc.joint.derived`)."""
     normal = law.normal_stiffness
     bandis = normal.law == "bandis"
-    joint = _joint_at_field_length(
+    joint = joint_at_field_length(
         law,
         law.jrc0,
         law.jcs0_MPa,
@@ -95,7 +70,7 @@ def _joint_law_row(law: ConstantLaw | BartonBandisLaw | MobilizedLaw) -> tuple[l
         p[L.P_PHI] = law.friction_deg * units.deg
         return [L.STRENGTH_CONSTANT, L.NORMAL_CONSTANT, L.SHEAR_CONSTANT, after], p
     s = law.strength
-    joint = _joint_at_field_length(s, s.jrc, s.jcs_MPa)
+    joint = joint_at_field_length(s, s.jrc, s.jcs_MPa)
     p[L.P_JRC], p[L.P_JCS] = joint.jrc, joint.jcs
     p[L.P_PHI_B] = s.phi_b_deg * units.deg if joint.phi_r is None else joint.phi_r
     p[L.P_PHI_MAX] = s.phi_max_deg * units.deg

@@ -31,6 +31,7 @@ from bbmc.dem.motion import apply_loads, move_blocks
 from bbmc.dem.support import support_forces
 from bbmc.dem.time_step import set_time_step
 from bbmc.dem.water import add_water_loads
+from bbmc.incidence import block_contacts
 
 THREADED_FROM_CONTACTS = 2000  # fewer contacts: one thread (a parallel loop's start costs more than
 # the step of a small scene; the result is the same to the bit either way)
@@ -57,15 +58,9 @@ def set_threads(threads: int) -> None:
 
 
 def block_contacts_of(contacts: np.ndarray, n_blocks: int) -> tuple[np.ndarray, np.ndarray]:
-    """Each block's contacts in contact order, as CSR: (start, entries), int64 (n_blocks + 1,) and
-    (2 n_contacts,); block i's entries are entries[start[i]:start[i + 1]], c >= 0 for contact c with
-    the block as B, -1 - c with it as A (the order `add_contact_sums` adds them in)."""
-    index = np.arange(len(contacts), dtype=np.int64)
-    block = np.concatenate([contacts[:, BLOCK_A], contacts[:, BLOCK_B]])
-    order = np.lexsort((np.concatenate([index, index]), block))
-    start = np.zeros(n_blocks + 1, dtype=np.int64)
-    np.cumsum(np.bincount(block, minlength=n_blocks), out=start[1:])
-    return start, np.concatenate([-1 - index, index])[order]
+    """Each block's contacts in contact order, as CSR (`bbmc.incidence.block_contacts`: c >= 0 for
+    contact c with the block as B, -1 - c with it as A; the order `add_contact_sums` adds them in)."""
+    return block_contacts(contacts[:, BLOCK_A], contacts[:, BLOCK_B], n_blocks)
 
 
 @numba.njit(cache=True)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,6 +70,26 @@ class Trial:
     seconds: float
     block: str = ""
     block_size_m: float = math.nan
+
+
+def trials_table(trials: Sequence[Trial]) -> pd.DataFrame:
+    """fos.csv: one row per trial, in the order run: `trial` (1, 2, ...), `factor` (F), `verdict`,
+    `reason`, `steps`, `largest_displacement_mm`, `unbalanced_force_ratio`, `wall_time_s`,
+    `moved_most_block` (of the judged blocks) and `moved_most_block_size_m`."""
+    return pd.DataFrame(
+        {
+            "trial": range(1, len(trials) + 1),
+            "factor": [t.factor for t in trials],
+            "verdict": [t.verdict for t in trials],
+            "reason": [t.reason for t in trials],
+            "steps": [t.steps for t in trials],
+            "largest_displacement_mm": [t.largest_displacement_m * 1e3 for t in trials],
+            "unbalanced_force_ratio": [t.unbalanced_force_ratio for t in trials],
+            "wall_time_s": [t.seconds for t in trials],
+            "moved_most_block": [t.block for t in trials],
+            "moved_most_block_size_m": [t.block_size_m for t in trials],
+        }
+    )
 
 
 @dataclass(frozen=True)
@@ -228,21 +249,9 @@ class StrengthReductionResult:
     def trials_table(self) -> pd.DataFrame:
         """fos.csv: one row per trial, in the order run: `trial` (1, 2, ...), `factor` (F), `verdict`,
         `reason`, `steps`, `largest_displacement_mm`, `unbalanced_force_ratio`, `wall_time_s`,
-        `moved_most_block` (of the judged blocks) and `moved_most_block_size_m`."""
-        return pd.DataFrame(
-            {
-                "trial": range(1, len(self.trials) + 1),
-                "factor": [t.factor for t in self.trials],
-                "verdict": [t.verdict for t in self.trials],
-                "reason": [t.reason for t in self.trials],
-                "steps": [t.steps for t in self.trials],
-                "largest_displacement_mm": [t.largest_displacement_m * 1e3 for t in self.trials],
-                "unbalanced_force_ratio": [t.unbalanced_force_ratio for t in self.trials],
-                "wall_time_s": [t.seconds for t in self.trials],
-                "moved_most_block": [t.block for t in self.trials],
-                "moved_most_block_size_m": [t.block_size_m for t in self.trials],
-            }
-        )
+        `moved_most_block` (of the judged blocks) and `moved_most_block_size_m` (the module's
+        `trials_table`, which the 3D search's table shares)."""
+        return trials_table(self.trials)
 
     @property
     def mechanism(self) -> pd.DataFrame:

@@ -61,8 +61,8 @@ from bbmc.dem import monitors as mon
 from bbmc.dem.model import Model
 from bbmc.dem.solver import SimulationError, advance, prepare
 from bbmc.dem.state import State
-from bbmc.dem.verdict import STABLE, UNSTABLE, Trend
-from bbmc.fos import gradual
+from bbmc.dem.verdict import STABLE, UNSTABLE
+from bbmc.fos import gradual, search
 from bbmc.fos.elastic_start import no_equilibrium
 from bbmc.fos.result import FromRest, StrengthReductionResult, Trial
 from bbmc.progress import Progress, ProgressCallback, ignore
@@ -156,6 +156,32 @@ def _closest(name: str, model: Model) -> str:
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 
+@dataclass
+class _Run:
+    """A 2D trial's run as `bbmc.fos.search.settle` reads it, on the `judged` blocks alone."""
+
+    model: Model
+    state: State
+    reference: float
+    judged: Judged
+
+    @property
+    def step(self) -> int:
+        return self.state.step
+
+    def advance(self, steps: int) -> None:
+        advance(self.model, self.state, steps)
+
+    def positions(self) -> np.ndarray:
+        return self.state.world[self.judged.vertices]
+
+    def unbalance(self) -> float:
+        return mon.unbalanced_force_ratio(self.state, self.reference, self.judged.blocks)
+
+    def loaded(self) -> bool:
+        return self.state.step >= self.model.loads_applied_step
+
+
 def settle(
     model: Model,
     state: State,
@@ -168,29 +194,12 @@ def settle(
     origin: np.ndarray | None = None,
     approach: bool = False,
 ) -> tuple[str, str]:
-    """Run `state` until its verdict (module docstring), read on the `judged` blocks alone: (verdict,
-    reason), displacements counted from `origin` (the vertices [m]; default: as they are now). With
-    `window` [steps], the trend of its motion over successive windows decides too
-    (`bbmc.dem.verdict.Trend`; `approach`: on a soft support)."""
-    start_world, first = state.world.copy() if origin is None else origin, state.step
-    trend = Trend(failure_displacement, settings.unbalanced_force_ratio, approach) if window else None
-    window_start, window_world = first, state.world.copy()
-    while state.step - first < budget:
-        advance(model, state, min(settings.check_every_steps, budget - (state.step - first)))
-        moved = largest_displacement(state, start_world, judged.vertices)
-        if moved > failure_displacement:
-            return UNSTABLE, "displacement"
-        loaded = state.step >= model.loads_applied_step
-        unbalance = mon.unbalanced_force_ratio(state, reference, judged.blocks)
-        if loaded and unbalance < settings.unbalanced_force_ratio:
-            return STABLE, "equilibrium"
-        if trend is not None and loaded and state.step - window_start >= window:
-            window_moved = largest_displacement(state, window_world, judged.vertices)
-            verdict = trend.observe(window_moved, moved, unbalance)
-            window_start, window_world = state.step, state.world.copy()
-            if verdict is not None:
-                return verdict
-    return UNSTABLE, "not_settled"
+    """Run `state` until its verdict (module docstring; `bbmc.fos.search.settle`), read on the `judged`
+    blocks alone: (verdict, reason), displacements counted from `origin` (all the vertices [m];
+    default: as they are now); `window`, `approach` as `bbmc.fos.search.settle` takes them."""
+    start = None if origin is None else origin[judged.vertices]
+    run = _Run(model, state, reference, judged)
+    return search.settle(run, settings, budget, failure_displacement, window, start, approach)
 
 
 @contextmanager
@@ -359,21 +368,9 @@ def factor_of_safety(model: Model, progress: ProgressCallback = ignore) -> Stren
             held, stable_blocks = state.support.copy(), state.blocks.copy()
         return verdict == STABLE
 
-    largest = settings.largest_factor
-    lo, hi = 1.0, math.inf  # F = 1 holds: the unreduced equilibrium, or its trial from the elastic one
-    if start == "elastic" and not attempt(1.0):
-        lo, hi = 0.0, 1.0
-    while hi == math.inf and lo < largest:
-        factor = min(2.0 * lo, largest)
-        lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
-    while lo == 0.0 and hi > 1.0 / largest:
-        factor = max(0.5 * hi, 1.0 / largest)
-        lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
-    bracketed = lo > 0.0 and hi < math.inf
-    while bracketed and hi - lo > settings.tolerance and lo < 0.5 * (lo + hi) < hi:
-        factor = 0.5 * (lo + hi)  # (a tolerance finer than round-off ends at adjacent numbers)
-        lo, hi = (factor, hi) if attempt(factor) else (lo, factor)
-    fs = 0.5 * (lo + hi) if bracketed else (lo if hi == math.inf else hi)
+    fs, (lo, hi), bracketed = search.bracket_factor(
+        attempt, settings.largest_factor, settings.tolerance, start == "elastic"
+    )
     return StrengthReductionResult(
         factor_of_safety=fs,
         bracket=(lo, hi),

@@ -1,6 +1,7 @@
 """The full Barton-Bandis joint's derived inputs, computed in one place for every user: the engine's law
 parameters of both Barton-Bandis laws, the full joint's and the peak envelope's (`bbmc.dem.joint_types`),
-the slope's joints (`bbmc.slope.safety`) and `bbmc joint`'s curves.
+the 3D engine's (`bbmc.dem3d.scene_laws`), the slope's joints (`bbmc.slope.safety`) and `bbmc joint`'s
+curves.
 
 From a joint measured on a lab specimen (JRC_0, JCS_0 at length L_0) to the joint at its field length
 L_n, in SI (Pa, m, rad), with the laws of `bbmc.laws.mobilized` (as ufuncs, `bbmc.laws`):
@@ -18,7 +19,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from bbmc import laws
+from bbmc import laws, units
+from bbmc.joint.inputs import ResidualAndScale
 
 
 @dataclass(frozen=True)
@@ -77,3 +79,27 @@ def full_joint(
         )
     peak = float(laws.peak_shear_displacement(field_length, jrc))
     return FullJoint(field_length, jrc, jcs, peak, phi_r, closure)
+
+
+def joint_at_field_length(
+    keys: ResidualAndScale,
+    jrc: float,
+    jcs_MPa: float,
+    aperture: float | None = None,
+    sigma_c: float | None = None,
+) -> FullJoint:
+    """A scene's Barton-Bandis law's joint (either law: the keys they share, `bbmc.joint.inputs`, with
+    its phi_b_deg) at its field length, in SI (`full_joint`): JRC [1] and JCS [MPa] as given at the lab
+    length, phi_r given or from the rebound ratio (None where neither is), and the closure from
+    `aperture` [m] or `sigma_c` [Pa] where given."""
+    return full_joint(
+        jrc,
+        jcs_MPa * units.MPa,
+        keys.lab_length_m,
+        keys.field_length_m or keys.lab_length_m,
+        phi_b=keys.phi_b_deg * units.deg,
+        phi_r=None if keys.phi_r_deg is None else keys.phi_r_deg * units.deg,
+        rebound_ratio=keys.rebound_ratio,
+        aperture=aperture,
+        sigma_c=sigma_c,
+    )

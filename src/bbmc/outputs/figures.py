@@ -8,6 +8,7 @@ ones dotted)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import matplotlib
 
@@ -25,7 +26,7 @@ from bbmc.dem import layout as L
 from bbmc.dem.model import Model
 from bbmc.dem.monitors import UNITS
 from bbmc.dem.support_report import per_bolt_kN, support_lines
-from bbmc.fos.result import StrengthReductionResult, bracket_decimals
+from bbmc.fos.result import StrengthReductionResult, Trial, bracket_decimals
 from bbmc.rockmass.figure import edge_style, set_colours
 
 SUFFIXES = sorted({unit for unit, _ in UNITS.values()}, key=len, reverse=True)
@@ -383,21 +384,35 @@ def fos_title(result: StrengthReductionResult) -> str:
 def bracketing_figure(result: StrengthReductionResult, dpi: int | None = None) -> Figure:
     """bracketing.png: each trial's F in the order run, stable or unstable, and the factor of safety
     found (`factor_of_safety_text`). `dpi`: the scene's figure_dpi unless given."""
-    fig = Figure(figsize=(7, 4), dpi=dpi or result.model.scene.figure_dpi)
+    start = "unreduced" if result.start == "unreduced" else "elastic (no equilibrium unreduced)"
+    return trials_figure(
+        result.trials,
+        result.factor_of_safety,
+        result.factor_of_safety_text,
+        result.bracketed,
+        f"bracketing and bisection; trials start from the {start} equilibrium",
+        dpi or result.model.scene.figure_dpi,
+    )
+
+
+def trials_figure(
+    trials: Sequence[Trial], factor: float, text: str, bracketed: bool, title: str, dpi: int
+) -> Figure:
+    """Each strength-reduction trial's F in the order run, stable or unstable, and the factor of safety
+    `factor` found (printed as `text`), for a 2D or a 3D search."""
+    fig = Figure(figsize=(7, 4), dpi=dpi)
     ax = fig.subplots()
-    order = np.arange(1, len(result.trials) + 1)
-    factors = np.array([t.factor for t in result.trials])
-    stable = np.array([t.verdict == "stable" for t in result.trials], dtype=bool)
+    order = np.arange(1, len(trials) + 1)
+    factors = np.array([t.factor for t in trials])
+    stable = np.array([t.verdict == "stable" for t in trials], dtype=bool)
     ax.plot(order, factors, "-", color="0.6", zorder=1)
     ax.plot(order[stable], factors[stable], "o", color="tab:green", label="stable (holds)")
     ax.plot(order[~stable], factors[~stable], "x", color="tab:red", ms=8, mew=2, label="unstable (fails)")
-    text = result.factor_of_safety_text
-    label = f"FS = {text}" if result.bracketed else f"FS {text}: beyond the searched range"
-    ax.axhline(result.factor_of_safety, color="k", ls="--", lw=1, label=label)
+    label = f"FS = {text}" if bracketed else f"FS {text}: beyond the searched range"
+    ax.axhline(factor, color="k", ls="--", lw=1, label=label)
     ax.set_xlabel("trial")
     ax.set_ylabel("strength reduction factor F")
-    start = "unreduced" if result.start == "unreduced" else "elastic (no equilibrium unreduced)"
-    ax.set_title(f"bracketing and bisection; trials start from the {start} equilibrium", fontsize=9)
+    ax.set_title(title, fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize="small")
     return fig

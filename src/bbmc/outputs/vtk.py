@@ -130,7 +130,7 @@ def _text_array(parent: ET.Element, name: str, values: list[str], with_count: bo
     array.text = " ".join(" ".join([*map(str, value.encode()), "0"]) for value in values)
 
 
-def _vtu_bytes(
+def vtu_bytes(
     mesh: meshio.Mesh, texts: dict[str, list[str]], where: str, names: dict[str, list[str]]
 ) -> bytes:
     """The mesh as VTU (meshio), with the text arrays `texts` added to its `where` ("CellData" or
@@ -173,7 +173,8 @@ def read_vtu(path: Path) -> tuple[meshio.Mesh, dict[str, list[str]]]:
         return meshio.read(numbers), texts
 
 
-def _collection(names: list[str], times: list[float]) -> str:
+def collection(names: list[str], times: list[float]) -> str:
+    """A PVD collection (ParaView's time series) of the files `names` at the record times `times` [s]."""
     rows = "\n".join(
         f'    <DataSet timestep="{t:.9g}" group="" part="0" file="{name}"/>'
         for name, t in zip(names, times, strict=True)
@@ -183,6 +184,14 @@ def _collection(names: list[str], times: list[float]) -> str:
         '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
         f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n"
     )
+
+
+def collections(folder: str, kinds: list[str], times: list[float]) -> dict[str, str]:
+    """A PVD collection `<folder>/<kind>.pvd` of `<kind>_<k>.vtu` for each kind, one file per time [s]."""
+    return {
+        f"{folder}/{kind}.pvd": collection([f"{kind}_{k:05d}.vtu" for k in range(len(times))], times)
+        for kind in kinds
+    }
 
 
 @dataclass
@@ -205,30 +214,15 @@ class Series:
         names = {"group_names": self.model.group_names, "law_names": self.model.law_names}
         blocks, block_text = block_mesh(self.model, state.blocks, state.world)
         contacts, contact_text = contact_mesh(self.model, state.contacts, state.subs, state.n_sub)
-        self.files[f"{self.folder}/blocks_{k:05d}.vtu"] = _vtu_bytes(blocks, block_text, "CellData", names)
-        self.files[f"{self.folder}/contacts_{k:05d}.vtu"] = _vtu_bytes(
+        self.files[f"{self.folder}/blocks_{k:05d}.vtu"] = vtu_bytes(blocks, block_text, "CellData", names)
+        self.files[f"{self.folder}/contacts_{k:05d}.vtu"] = vtu_bytes(
             contacts, contact_text, "PointData", names
         )
         if len(self.model.support.names):
             mesh = support_mesh(self.model, state.blocks, state.support)
-            self.files[f"{self.folder}/support_{k:05d}.vtu"] = _vtu_bytes(mesh, {}, "CellData", names)
+            self.files[f"{self.folder}/support_{k:05d}.vtu"] = vtu_bytes(mesh, {}, "CellData", names)
 
     def collections(self) -> dict[str, bytes | str]:
-        """The files of every record and the two PVD collections."""
-        n = len(self.times)
-        return {
-            **self.files,
-            f"{self.folder}/blocks.pvd": _collection([f"blocks_{k:05d}.vtu" for k in range(n)], self.times),
-            f"{self.folder}/contacts.pvd": _collection(
-                [f"contacts_{k:05d}.vtu" for k in range(n)], self.times
-            ),
-            **(
-                {
-                    f"{self.folder}/support.pvd": _collection(
-                        [f"support_{k:05d}.vtu" for k in range(n)], self.times
-                    )
-                }
-                if len(self.model.support.names)
-                else {}
-            ),
-        }
+        """The files of every record and the PVD collections."""
+        kinds = ["blocks", "contacts"] + (["support"] if len(self.model.support.names) else [])
+        return {**self.files, **collections(self.folder, kinds, self.times)}

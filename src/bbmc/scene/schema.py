@@ -462,6 +462,7 @@ FileName = Annotated[str, AfterValidator(_file_name)]
 
 
 class Scene(Section):
+    dimension: Literal[2] = 2  # a 3D scene says 3 (`bbmc.scene.schema3d`)
     name: FileName | None = None  # [the file name]
     description: str = ""
     thickness_m: Positive = 1.0

@@ -20,6 +20,9 @@ bytes one sub-contact update moves and the most updates per second that bandwidt
 (`bbmc.bench.bandwidth`).
 wedge_cost.csv: one deterministic wedge, the combination analysis of 10 joint sets and the probabilistic
 wedge samples per second, on one core, beside issue 35's marks (`bbmc.bench.wedge_cost`).
+engine3d.csv: the 3D engine's sub-contact updates per second per core beside the 2D engine's, its
+2-thread speed-up and bitwise check, a 3D wedge's strength reduction, and that a 2D run imports nothing of
+3D (`bbmc.bench.engine3d`).
 support_cost.csv: where a scene has no support, this engine's time per step against the last commit
 before support elements; and the design search of a scene's `design:` section, its trials and wall
 time (`bbmc.bench.support_cost`).
@@ -50,6 +53,7 @@ from pydantic import Field, model_validator
 from bbmc.bench import tradeoff as to
 from bbmc.bench.bandwidth import bandwidth_table, limit_table, slope_counts
 from bbmc.bench.economy import economy_table
+from bbmc.bench.engine3d import engine3d_table
 from bbmc.bench.engine_cost import engine_cost_table
 from bbmc.bench.fos_cost import fos_cost_table
 from bbmc.bench.kinematics_cost import kinematics_cost_table
@@ -80,6 +84,7 @@ SECTIONS = (
     "support",
     "kinematics",
     "wedge",
+    "engine3d",
 )
 
 
@@ -225,6 +230,17 @@ class WedgeCost(Section):
     repeats: Repeats
 
 
+class Engine3dCost(Section):
+    """The 3D engine's rate at each of `block_counts` beside the 2D engine's, over `steps` steps, its
+    2-thread speed-up at `threads_blocks`, the 3D wedge's strength reduction, in `repeats` alternating
+    fresh processes (`bbmc.bench.engine3d`)."""
+
+    block_counts: list[Annotated[int, Field(ge=1, le=1_000_000)]] = Field(min_length=1)
+    steps: Annotated[int, Field(ge=1, le=1_000_000)]
+    threads_blocks: Annotated[int, Field(ge=1, le=1_000_000)]
+    repeats: Repeats
+
+
 class Config(Section):
     """The paper's scenes and the sections to run (each optional, at least one given)."""
 
@@ -243,6 +259,7 @@ class Config(Section):
     support: SupportCost | None = None
     kinematics: KinematicsCost | None = None
     wedge: WedgeCost | None = None
+    engine3d: Engine3dCost | None = None
     figure_dpi: Annotated[int, Field(ge=50, le=600)] = 120
 
     @model_validator(mode="after")
@@ -384,6 +401,13 @@ def wedge_part(config: Config, scenes: PaperScenes, progress: Callable[[str], No
     return {"wedge_cost": table}, {}
 
 
+def engine3d_part(config: Config, scenes: PaperScenes, progress: Callable[[str], None]) -> Part:
+    e = config.engine3d
+    table = engine3d_table(e.block_counts, e.steps, e.threads_blocks, e.repeats, str(config.slope_config),
+                           progress)  # fmt: skip
+    return {"engine3d": table}, {}
+
+
 PARTS = {
     "tradeoff": tradeoff_part,
     "economy": economy_part,
@@ -398,6 +422,7 @@ PARTS = {
     "support": support_part,
     "kinematics": kinematics_part,
     "wedge": wedge_part,
+    "engine3d": engine3d_part,
 }
 
 

@@ -161,3 +161,20 @@ def run(scene: Scene, config_path: Path, progress: ProgressCallback = ignore) ->
     tables["summary"] = summary_table(result, scene, seconds, unsupported, loads, design)
     figures = {"bracketing": bracketing_figure(result), "mechanism": mechanism_figure(result)}
     return StageResult(tables=tables, figures=figures), FosRun(result, unsupported, design)
+
+
+def command_lines(scene: Scene, result: StageResult, found: FosRun, seconds: float) -> list[str]:
+    """What `bbmc fos` prints after the search (a line starting "warning: " goes to stderr): the FS,
+    the trials and the `seconds` it took, the notes, and the support's and the design's lines."""
+    outcome = found.result
+    bound = "" if outcome.bracketed else " (not bracketed: beyond the searched range)"
+    trials = f"{len(outcome.trials)} trials, {seconds:.1f} s"
+    lines = [f"factor of safety {outcome.factor_of_safety_text}{bound}, {trials}"]
+    if outcome.progressive_note:
+        lines.append(f"note: {outcome.progressive_note}")
+    if outcome.failing_note:
+        lines.append(outcome.failing_note)
+    if outcome.elastic_start_note:
+        lines.append(f"warning: {outcome.elastic_start_note}")
+    note = found.design.note if found.design is not None else ""
+    return lines + support_summary_lines(scene, result.tables["summary"], found.unsupported, note)
