@@ -124,7 +124,7 @@ def mechanism_figure(
         Patch(facecolor=HELD_COLOUR, edgecolor="k", label="held"),
         Line2D([], [], color=ARROW_COLOUR, label="way it moved (arrow length to its own scale)"),
     ]
-    fig.legend(handles=handles, loc="lower left", fontsize=8, frameon=False)
+    fig.legend(handles=handles, loc="lower right", fontsize=8, frameon=False)  # clear of the y axis
     most = int(np.argmax(size_mm))
     label = f"block {most}" if names is None else names[most]
     fig.suptitle(f"{title}\n{label} moved most, {size_mm[most]:,.1f} mm (true scale)", fontsize=11)
